@@ -1,0 +1,59 @@
+# geomint front door. Two commands matter (README): `make figures` and `make test`.
+# Both install missing Debian packages first (as root; anyone else gets the exact command).
+BUILD     ?= build
+OUT       ?= out
+JOBS      ?= $(shell nproc 2>/dev/null || echo 2)
+PACKAGES  := cmake make g++ git libeigen3-dev libgsl-dev libboost-dev libboost-program-options-dev \
+             libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev catch2 \
+             libgnuplot-iostream-dev gnuplot-nox
+# Warnings are errors in CI.
+CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,)
+# Every figure and table with the paper's defaults, in this order.
+FIGURES   := fig1_oscillator convergence_oscillator
+
+.PHONY: all deps build figures test sanitize clean
+
+all: build
+
+deps:
+	@missing=""; for p in $(PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ]; then \
+	    echo "Installing missing Debian packages:$$missing"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing || exit 1; \
+	  else \
+	    echo "Missing Debian packages:$$missing"; \
+	    echo "Run:  sudo apt-get install -y --no-install-recommends$$missing"; \
+	    exit 1; \
+	  fi; \
+	fi
+
+build: deps
+	@cmake -S . -B $(BUILD) $(CMAKE_FLAGS) > /dev/null
+	@cmake --build $(BUILD) -j$(JOBS)
+
+figures: build
+	@mkdir -p $(OUT)
+	@total0=$$(date +%s.%N); \
+	for f in $(FIGURES); do \
+	  t0=$$(date +%s.%N); \
+	  echo "== $$f"; \
+	  $(BUILD)/experiments/$$f --out $(OUT) || { echo "$$f failed"; exit 1; }; \
+	  t1=$$(date +%s.%N); \
+	  awk -v f=$$f -v a=$$t0 -v b=$$t1 'BEGIN { printf "== %s took %.2f s\n\n", f, b - a }'; \
+	done; \
+	awk -v a=$$total0 -v b=$$(date +%s.%N) 'BEGIN { printf "All figures in $(OUT)/ (%.1f s after the build)\n", b - a }'
+
+test: build
+	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+
+# The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
+sanitize: deps
+	@cmake -S . -B $(BUILD)-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEOMINT_SANITIZE=ON $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,) > /dev/null
+	@cmake --build $(BUILD)-sanitize -j$(JOBS)
+	@cd $(BUILD)-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j$(JOBS)
+
+clean:
+	rm -rf $(BUILD) $(BUILD)-sanitize $(OUT)

@@ -1,0 +1,43 @@
+#pragma once
+// Errors that geomint reports to a user: bad input and numerical failure.
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace geomint {
+
+// Input that makes no sense (h <= 0, unknown scheme, ...). Programs print what() on one line, exit 2.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A run that left its numerical bounds: a non-finite state, a lost constraint, a singular solve.
+// Carries where it happened so a sweep can record it as data.
+struct NumericalFailure : std::runtime_error {
+  long step;
+  std::string quantity;
+  NumericalFailure(long step_, std::string quantity_, const std::string& what)
+      : std::runtime_error("numerical failure at step " + std::to_string(step_) + " (" + quantity_ + "): " + what),
+        step(step_), quantity(std::move(quantity_)) {}
+};
+
+inline void require(bool ok, const std::string& message) {
+  if (!ok) throw InputError(message);
+}
+
+inline void require_positive(double v, const char* name) {
+  require(std::isfinite(v) && v > 0, std::string(name) + " must be a positive finite number, got " + std::to_string(v));
+}
+
+inline void require_nonnegative(double v, const char* name) {
+  require(std::isfinite(v) && v >= 0, std::string(name) + " must be a non-negative finite number, got " + std::to_string(v));
+}
+
+inline void require_finite(double v, const char* name) {
+  require(std::isfinite(v), std::string(name) + " must be finite, got " + std::to_string(v));
+}
+
+// Number of steps N with N*h == T (to 1e-9 relative): every run lands exactly on T, t_j = t0 + j*h.
+long step_count(double h, double T);
+
+}  // namespace geomint

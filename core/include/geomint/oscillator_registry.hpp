@@ -1,0 +1,28 @@
+#pragma once
+// Run-time access to the oscillator schemes by name (command lines, studies). A new scheme is one
+// struct in oscillator_schemes.hpp plus one line in oscillator_registry.cpp.
+#include <string>
+#include <vector>
+
+#include "geomint/oscillator.hpp"
+
+namespace geomint {
+
+struct OscillatorTrajectory {
+  std::vector<double> t, q, p, z;
+};
+
+struct OscillatorSchemeInfo {
+  std::string name;
+  int order;  // expected order (0: does not converge)
+  std::string description;
+  OscillatorTrajectory (*run)(const OscillatorScene&, double h);
+  // max_j |q_j - q(t_j)| against the closed-form solution, without storing the trajectory
+  double (*max_error)(const OscillatorScene&, double h);
+};
+
+const std::vector<OscillatorSchemeInfo>& oscillator_schemes();
+// Throws InputError naming the known schemes when `name` is unknown.
+const OscillatorSchemeInfo& find_oscillator_scheme(const std::string& name);
+
+}  // namespace geomint

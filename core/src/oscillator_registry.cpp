@@ -1,0 +1,68 @@
+#include "geomint/oscillator_registry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geomint/integrate.hpp"
+#include "geomint/oscillator_schemes.hpp"
+
+namespace geomint {
+namespace {
+
+template <class S>
+OscillatorTrajectory run(const OscillatorScene& sc, double h) {
+  sc.validate();
+  const long N = step_count(h, sc.T);
+  OscillatorTrajectory tr;
+  for (auto* v : {&tr.t, &tr.q, &tr.p, &tr.z}) v->resize(static_cast<size_t>(N + 1));
+  OscState<double> s{sc.q0, sc.p0, 0.0};
+  integrate_const<S>(s, h, N, sc.alpha, [&](long j, const OscState<double>& x) {
+    const auto k = static_cast<size_t>(j);
+    tr.t[k] = static_cast<double>(j) * h;
+    tr.q[k] = x.q;
+    tr.p[k] = x.p;
+    tr.z[k] = x.z;
+  });
+  return tr;
+}
+
+template <class S>
+double max_error(const OscillatorScene& sc, double h) {
+  sc.validate();
+  const long N = step_count(h, sc.T);
+  OscState<double> s{sc.q0, sc.p0, 0.0};
+  double err = 0;
+  integrate_const<S>(s, h, N, sc.alpha, [&](long j, const OscState<double>& x) {
+    const double t = static_cast<double>(j) * h;
+    err = std::max(err, std::abs(x.q - oscillator_exact(sc.alpha, sc.q0, sc.p0, t).q));
+  });
+  return err;
+}
+
+template <class S>
+OscillatorSchemeInfo entry(const char* description) {
+  return {S::name, S::order, description, &run<S>, &max_error<S>};
+}
+
+}  // namespace
+
+const std::vector<OscillatorSchemeInfo>& oscillator_schemes() {
+  static const std::vector<OscillatorSchemeInfo> all = {
+      entry<schemes::La>("Lagrange-d'Alembert from the forced discrete EL equations (1), derived"),
+      entry<schemes::LaPrinted>("eq. (7) as printed, denominator 1+alpha (does not converge)"),
+      entry<schemes::Contact>("contact integrator, discrete Herglotz, eq. (10)"),
+      entry<schemes::Leapfrog>("implicit leapfrog, second order (the paper's reference at h/10)"),
+  };
+  return all;
+}
+
+const OscillatorSchemeInfo& find_oscillator_scheme(const std::string& name) {
+  const auto& all = oscillator_schemes();
+  for (const auto& s : all)
+    if (s.name == name) return s;
+  std::string known;
+  for (const auto& s : all) known += (known.empty() ? "" : ", ") + s.name;
+  throw InputError("unknown scheme '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace geomint

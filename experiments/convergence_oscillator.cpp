@@ -1,0 +1,105 @@
+// Convergence study of the oscillator schemes against the closed-form solution:
+// err_max = max_j |q_j - q(t_j)| for h halving from h-max to <= h-min, several alpha.
+//   convergence_oscillator [--h-max 0.2] [--h-min 0.003] [--alpha 0.01 0.1 1] [--T 50] [--out out]
+// Writes out/convergence_oscillator.tsv (one row per scheme, alpha, h), out/convergence_oscillator_fits.tsv
+// (fitted order per scheme and alpha) and out/convergence_oscillator.{png,pdf}.
+#include <cmath>
+#include <cstdio>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/io.hpp"
+#include "geomint/oscillator_registry.hpp"
+#include "geomint/plots/figure.hpp"
+#include "geomint/study.hpp"
+
+using namespace geomint;
+
+int main(int argc, char** argv) {
+  return guarded_main("convergence_oscillator", [&] {
+    double h_max = 0.2, h_min = 0.003, T = 50, q0 = -0.25, p0 = 0.75;
+    std::vector<double> alphas{0.01, 0.1, 1};
+    std::vector<std::string> names{"la", "contact", "la-printed", "leapfrog"};
+    Cli cli("convergence_oscillator", "error against h of the oscillator schemes, with fitted orders");
+    cli.options.add_options()("h-max", po::value(&h_max)->default_value(h_max), "largest step")(
+        "h-min", po::value(&h_min)->default_value(h_min), "halve until h <= h-min")(
+        "T", po::value(&T)->default_value(T), "horizon")("q0", po::value(&q0)->default_value(q0), "initial position")(
+        "p0", po::value(&p0)->default_value(p0), "initial momentum")(
+        "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "0.01 0.1 1"), "damping values")(
+        "schemes", po::value(&names)->multitoken()->default_value(names, "la contact la-printed leapfrog"),
+        "schemes");
+    if (!cli.parse(argc, argv)) return 0;
+
+    const auto hs = halving_sequence(h_max, h_min);
+    for (double h : hs) step_count(h, T);
+    for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
+    std::vector<const OscillatorSchemeInfo*> schemes;
+    for (const auto& n : names) schemes.push_back(&find_oscillator_scheme(n));
+    const auto dir = prepare_output_dir(cli.out);
+
+    const Params params{{"h", format_list(hs)}, {"T", format_number(T)}, {"q0", format_number(q0)},
+                        {"p0", format_number(p0)}, {"alpha", format_list(alphas)},
+                        {"error", "max_j |q_j - q_exact(t_j)|, closed-form solution"}};
+    TsvWriter tsv(dir / "convergence_oscillator.tsv", "convergence_oscillator", params,
+                  {"scheme", "alpha", "h", "steps", "err_max", "order"});
+    TsvWriter fits(dir / "convergence_oscillator_fits.tsv", "convergence_oscillator", params,
+                   {"scheme", "alpha", "fitted_order", "points", "expected_order"});
+    std::printf("%-11s %-6s %-10s %12s %7s\n", "scheme", "alpha", "h", "err_max", "order");
+    for (const auto* s : schemes)
+      for (double a : alphas) {
+        const OscillatorScene scene{a, q0, p0, T};
+        std::vector<double> errs;
+        for (double h : hs) {
+          double e;
+          try {
+            e = s->max_error(scene, h);
+          } catch (const NumericalFailure&) {
+            e = std::nan("");  // a failed run is a missing value, not a crash
+          }
+          errs.push_back(e);
+        }
+        const auto orders = observed_orders(hs, errs);
+        for (size_t i = 0; i < hs.size(); ++i) {
+          tsv.row(s->name, a, hs[i], step_count(hs[i], T), errs[i], orders[i]);
+          std::printf("%-11s %-6g %-10g %12.4e %7.3f\n", s->name.c_str(), a, hs[i], errs[i], orders[i]);
+        }
+        const auto fit = fit_order(hs, errs);
+        fits.row(s->name, a, fit.slope, fit.points, s->order);
+      }
+    tsv.commit();
+    fits.commit();
+
+    std::printf("\nfitted orders (least squares over all h):\n%-11s", "scheme");
+    for (double a : alphas) std::printf(" alpha=%-6g", a);
+    std::printf("\n");
+    const auto ft = plots::read_tsv(dir / "convergence_oscillator_fits.tsv");
+    for (const auto* s : schemes) {
+      std::printf("%-11s", s->name.c_str());
+      for (double a : alphas)
+        for (size_t r = 0; r < ft.rows.size(); ++r)
+          if (ft.text(r, "scheme") == s->name && ft.number(r, "alpha") == a)
+            std::printf(" %12.3f", ft.number(r, "fitted_order"));
+      std::printf("\n");
+    }
+
+    const auto t = plots::read_tsv(dir / "convergence_oscillator.tsv");
+    plots::Figure fig;
+    fig.title = "Oscillator: max_j |q_j - q(t_j)| against h, T = " + format_number(T);
+    fig.cols = static_cast<int>(alphas.size());
+    fig.width_in = 4.2 * fig.cols;
+    fig.height_in = 4.2;
+    for (double a : alphas) {
+      plots::Panel p;
+      p.setup = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'h'\nset ylabel 'max error in q'\n"
+                "set key bottom right\nset title 'alpha = " + format_number(a) + "'\n";
+      for (const auto* s : schemes) {
+        auto keep = [&](size_t i) { return t.text(i, "scheme") == s->name && t.number(i, "alpha") == a; };
+        const auto x = t.numbers("h", keep), y = t.numbers("err_max", keep);
+        p.series.push_back({x, y, plots::slope_label(s->name, fit_order(x, y).slope), plots::style_for(s->name, "linespoints")});
+      }
+      fig.panels.push_back(std::move(p));
+    }
+    fig.draw(dir / "convergence_oscillator");
+    return 0;
+  });
+}

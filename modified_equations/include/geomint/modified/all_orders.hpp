@@ -1,0 +1,41 @@
+#pragma once
+// All-orders modified equations of the linear oscillator schemes. Each scheme is a linear recurrence
+// (q_{j+1}, p_{j+1}) = M (q_j, p_j), so q_j satisfies q_{j+2} - tr(M) q_{j+1} + det(M) q_j = 0 and samples
+// exactly the solution of q'' + a_h q' + b_h q = 0 with lambda = exp(h mu), mu roots of mu^2 + a_h mu + b_h.
+// (a_h, b_h) are the modified damping and stiffness to all orders in h; their expansions must reproduce
+// the first-order modified equations (8) and (11).
+#include <cmath>
+
+#include "geomint/oscillator.hpp"
+
+namespace geomint::modified {
+
+struct AllOrders {
+  double a = std::nan("");      // modified damping coefficient (q'' + a q' + b q = 0)
+  double b = std::nan("");      // modified stiffness
+  double tr = std::nan(""), det = std::nan("");
+  bool oscillating = false;     // complex eigenvalues
+  bool valid = false;           // false when an eigenvalue is <= 0 (no continuous flow samples it)
+  double spectral_radius = std::nan("");
+};
+
+AllOrders all_orders_from_trace_det(double tr, double det, double h);
+
+// One-step matrix of Scheme on (q, p), by stepping the unit vectors.
+template <class Scheme>
+void one_step_matrix(double h, double alpha, double M[2][2]) {
+  OscState<double> e1{1, 0, 0}, e2{0, 1, 0};
+  Scheme::step(e1, h, alpha);
+  Scheme::step(e2, h, alpha);
+  M[0][0] = e1.q; M[1][0] = e1.p;
+  M[0][1] = e2.q; M[1][1] = e2.p;
+}
+
+template <class Scheme>
+AllOrders all_orders(double h, double alpha) {
+  double M[2][2];
+  one_step_matrix<Scheme>(h, alpha, M);
+  return all_orders_from_trace_det(M[0][0] + M[1][1], M[0][0] * M[1][1] - M[0][1] * M[1][0], h);
+}
+
+}  // namespace geomint::modified

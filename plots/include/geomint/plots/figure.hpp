@@ -1,0 +1,51 @@
+#pragma once
+// Figures in the house style, drawn with gnuplot-iostream from data read back from a saved TSV
+// (so a figure always shows what the file holds). Each figure is written as PNG and PDF, each via a
+// temporary name and a rename.
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace geomint::plots {
+
+// A tidy TSV read back: '#' lines skipped, first other line is the column names.
+struct TsvTable {
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;
+  std::size_t column(const std::string& name) const;  // throws if absent
+  double number(std::size_t row, const std::string& name) const;
+  const std::string& text(std::size_t row, const std::string& name) const;
+  // Values of column `name` over the rows accepted by `keep` (in file order).
+  std::vector<double> numbers(const std::string& name, const std::function<bool(std::size_t)>& keep) const;
+};
+TsvTable read_tsv(const std::filesystem::path& path);
+
+struct Series {
+  std::vector<double> x, y;
+  std::string title;
+  std::string style = "lines";  // gnuplot "with" clause
+};
+
+struct Panel {
+  std::string setup;  // gnuplot commands: labels, log scales, ranges, key
+  std::vector<Series> series;
+  std::string extra_plots;  // extra plot items (e.g. reference slope functions), appended after series
+};
+
+struct Figure {
+  std::string title;
+  int rows = 1, cols = 1;
+  std::vector<Panel> panels;
+  double width_in = 7, height_in = 4.5;
+  // Writes stem.png and stem.pdf. Throws on gnuplot failure.
+  void draw(const std::filesystem::path& stem) const;
+};
+
+// A fixed colour per scheme name, so a scheme looks the same in every figure.
+std::string style_for(const std::string& scheme, const std::string& with = "lines");
+
+// Log-log helper: one panel of err vs h series with fitted slopes in the titles and reference slopes.
+std::string slope_label(const std::string& name, double slope);
+
+}  // namespace geomint::plots

@@ -1,0 +1,67 @@
+// Every program answers bad input with one line on stderr, a nonzero exit, and no output file.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "helpers.hpp"
+
+using namespace geomint::testing;
+
+namespace {
+
+struct BadInput {
+  const char* program;
+  const char* args;
+  const char* expect;  // a piece of the message
+};
+
+const BadInput bad_inputs[] = {
+    {"fig1_oscillator", "--h 0", "h must be a positive"},
+    {"fig1_oscillator", "--h=-0.1", "h must be a positive"},
+    {"fig1_oscillator", "--h 100", "exceeds the horizon"},
+    {"fig1_oscillator", "--h 0.3", "not an integer"},
+    {"fig1_oscillator", "--alpha nan", "alpha must be a non-negative"},
+    {"fig1_oscillator", "--alpha=-1", "alpha must be a non-negative"},
+    {"fig1_oscillator", "--schemes la nosuch", "unknown scheme 'nosuch'"},
+    {"fig1_oscillator", "--T inf", "T must be a positive"},
+    {"fig1_oscillator", "--bogus 1", "unrecognised option"},
+    {"fig1_oscillator", "--h abc", "invalid"},
+    {"convergence_oscillator", "--h-max 0", "h_max must be a positive"},
+    {"convergence_oscillator", "--h-max 100", "exceeds the horizon"},
+    {"convergence_oscillator", "--alpha nan", "alpha must be a non-negative"},
+    {"convergence_oscillator", "--schemes nosuch", "unknown scheme"},
+};
+
+}  // namespace
+
+TEST_CASE("programs reject bad input with one line, exit 2, and write nothing", "[programs]") {
+  for (const auto& b : bad_inputs) {
+    const auto dir = fresh_dir("bad-input");
+    const auto r = run_program(b.program, std::string(b.args) + " --out " + (dir / "out").string());
+    INFO(b.program << " " << b.args << " -> exit " << r.exit_code << ": " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(b.expect) != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK(!std::filesystem::exists(dir / "out"));
+    std::filesystem::remove_all(dir);
+  }
+}
+
+TEST_CASE("an unwritable output folder is refused", "[programs]") {
+  const auto dir = fresh_dir("unwritable");
+  std::ofstream(dir / "file") << "x";  // a file where a folder should be
+  const auto r = run_program("fig1_oscillator", "--out " + (dir / "file" / "sub").string());
+  INFO(r.err);
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("output folder") != std::string::npos);
+}
+
+TEST_CASE("--help prints usage and exits 0", "[programs]") {
+  for (const char* p : {"fig1_oscillator", "convergence_oscillator"}) {
+    const auto r = run_program(p, "--help");
+    INFO(p);
+    CHECK(r.exit_code == 0);
+  }
+}
