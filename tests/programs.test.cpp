@@ -32,6 +32,11 @@ const BadInput bad_inputs[] = {
     {"convergence_oscillator", "--h-max 100", "exceeds the horizon"},
     {"convergence_oscillator", "--alpha nan", "alpha must be a non-negative"},
     {"convergence_oscillator", "--schemes nosuch", "unknown scheme"},
+    {"backward_error", "--h-max 0", "h_max must be a positive"},
+    {"backward_error", "--h-max 0.2 --h-min 0.3", "h_min must not exceed"},
+    {"backward_error", "--alpha=-0.5", "alpha must be a non-negative"},
+    {"backward_error", "--tol 1", "tol must be in"},
+    {"backward_error", "--T 0", "T must be a positive"},
 };
 
 }  // namespace
@@ -59,7 +64,7 @@ TEST_CASE("an unwritable output folder is refused", "[programs]") {
 }
 
 TEST_CASE("--help prints usage and exits 0", "[programs]") {
-  for (const char* p : {"fig1_oscillator", "convergence_oscillator"}) {
+  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error"}) {
     const auto r = run_program(p, "--help");
     INFO(p);
     CHECK(r.exit_code == 0);
