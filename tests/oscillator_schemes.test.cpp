@@ -161,3 +161,37 @@ TEST_CASE("long double runs the same scheme and agrees with double to round-off"
   CHECK(std::abs(static_cast<long double>(d.q) - l.q) < 1e-12L);
   CHECK(std::abs(static_cast<long double>(d.q) - l.q) > 0.0L);  // really a different precision
 }
+
+TEST_CASE("second-order comparators: defining equations and order 2", "[oscillator][second-order]") {
+  const double h = 0.1, alpha = 0.4;
+  // midpoint forced DEL, AD-free literal restatement through the scheme's residual
+  const auto tm = trajectory<schemes::LaMidpoint>(h, alpha, 300);
+  for (size_t j = 1; j + 1 < tm.size(); ++j)
+    CHECK(std::abs(schemes::LaMidpoint::residual(tm[j - 1].q, tm[j].q, tm[j + 1].q, h, alpha)) < 1e-14);
+  // symmetric contact: L_d(q0, q1, z0) defined implicitly by z1 = z0 + h[v^2/2 - (q0^2+q1^2)/4 - alpha (z0+z1)/2];
+  // solved for z1 it is linear, so the AD of the solved form is the literal definition.
+  auto Ld = [&](AD q0, AD q1, AD z0) -> AD {
+    AD v = (q1 - q0) / h;
+    AD A = v * v / 2 - (q0 * q0 + q1 * q1) / 4;
+    return h * (A - alpha * z0) / (1 + h * alpha / 2);
+  };
+  const auto tc = trajectory<schemes::ContactSymmetric>(h, alpha, 300);
+  for (size_t j = 1; j + 1 < tc.size(); ++j) {
+    const auto gj = Ld(AD(tc[j].q, 3, 0), AD(tc[j + 1].q, 3, 1), AD(tc[j].z, 3, 2)).derivatives();
+    const auto gm = Ld(AD(tc[j - 1].q, 3, 0), AD(tc[j].q, 3, 1), AD(tc[j - 1].z, 3, 2)).derivatives();
+    CHECK(std::abs(gj(0) + gm(1) * (1 + gj(2))) < 1e-14);                 // discrete Herglotz equation
+    CHECK(tc[j].p == Approx(gm(1)).epsilon(1e-13));                         // p_j = D2 L_d(q_{j-1}, q_j, z_{j-1})
+    const double v = (tc[j + 1].q - tc[j].q) / h;                            // implicit z definition
+    CHECK(tc[j + 1].z - tc[j].z ==
+          Approx(h * (v * v / 2 - (tc[j].q * tc[j].q + tc[j + 1].q * tc[j + 1].q) / 4 -
+                      alpha * (tc[j].z + tc[j + 1].z) / 2)).margin(1e-15));
+  }
+  const auto hs = halving_sequence(0.2, 0.003);
+  for (const char* name : {"la-midpoint", "contact-sym"})
+    for (double a : {0.01, 0.1, 1.0}) {
+      std::vector<double> e;
+      for (double hh : hs) e.push_back(find_oscillator_scheme(name).max_error({a, -0.25, 0.75, 50}, hh));
+      INFO(name << " alpha " << a);
+      CHECK(fit_order(hs, e).slope == Approx(2).margin(0.05));
+    }
+}

@@ -52,6 +52,8 @@ const std::vector<OscillatorSchemeInfo>& oscillator_schemes() {
       entry<schemes::LaPrinted>("eq. (7) as printed, denominator 1+alpha (does not converge)"),
       entry<schemes::Contact>("contact integrator, discrete Herglotz, eq. (10)"),
       entry<schemes::Leapfrog>("implicit leapfrog, second order (the paper's reference at h/10)"),
+      entry<schemes::LaMidpoint>("midpoint forced variational integrator, second order"),
+      entry<schemes::ContactSymmetric>("symmetric (trapezoidal) contact integrator, second order"),
   };
   return all;
 }

@@ -81,4 +81,45 @@ struct Leapfrog {
   }
 };
 
+// Second-order comparators (what a user would pick instead of the first-order schemes).
+
+// Midpoint forced variational integrator: L_d = h L((q_j+q_{j+1})/2, v_j), F_d^+ = F_d^- = h/2 F(., v_j).
+// Discrete Legendre transforms p_j = -D1 L_d - F_d^-, p_{j+1} = D2 L_d + F_d^+ give, with c = 1 + h alpha/2 + h^2/4,
+//   v = (p_j - h q_j/2) / c,  q_{j+1} = q_j + h v,  p_{j+1} = (1 - h alpha/2 - h^2/4) v - h q_j/2.
+// Symmetric, hence second order.
+struct LaMidpoint {
+  static constexpr const char* name = "la-midpoint";
+  static constexpr int order = 2;
+  template <class T>
+  static void step(OscState<T>& s, T h, T alpha) {
+    const T v = (s.p - h * s.q / 2) / (1 + h * alpha / 2 + h * h / 4);
+    s.p = (1 - h * alpha / 2 - h * h / 4) * v - h * s.q / 2;
+    s.q = s.q + h * v;
+  }
+  // Forced DEL residual with the midpoint L_d and split forces.
+  template <class T>
+  static T residual(T qm, T q, T qp, T h, T alpha) {
+    const T v0 = (q - qm) / h, v1 = (qp - q) / h;
+    return -v1 - h * (q + qp) / 4 + v0 - h * (qm + q) / 4 - h * alpha / 2 * (v0 + v1);
+  }
+};
+
+// Symmetric contact integrator (trapezoidal Herglotz): L_d = h [ v^2/2 - (q_j^2+q_{j+1}^2)/4 - alpha (z_j+z_{j+1})/2 ]
+// with z_{j+1} = z_j + L_d, solved for z_{j+1} (linear), so L_d(q_j,q_{j+1},z_j) = h (A - alpha z_j)/(1 + h alpha/2),
+// A = v^2/2 - (q_j^2+q_{j+1}^2)/4. The contact Legendre maps p_j = -D1 L_d / (1 + D3 L_d), p_{j+1} = D2 L_d give
+//   v = (1 - h alpha/2) p_j - h q_j/2,  q_{j+1} = q_j + h v,  p_{j+1} = (v - h q_{j+1}/2)/(1 + h alpha/2).
+struct ContactSymmetric {
+  static constexpr const char* name = "contact-sym";
+  static constexpr int order = 2;
+  template <class T>
+  static void step(OscState<T>& s, T h, T alpha) {
+    const T v = (1 - h * alpha / 2) * s.p - h * s.q / 2;
+    const T qn = s.q + h * v;
+    const T A = v * v / 2 - (s.q * s.q + qn * qn) / 4;
+    s.z = ((1 - h * alpha / 2) * s.z + h * A) / (1 + h * alpha / 2);
+    s.p = (v - h * qn / 2) / (1 + h * alpha / 2);
+    s.q = qn;
+  }
+};
+
 }  // namespace geomint::schemes
