@@ -9,9 +9,9 @@ PACKAGES  := cmake make g++ git libeigen3-dev libgsl-dev libboost-dev libboost-p
 # Warnings are errors in CI.
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,)
 # Every figure and table with the paper's defaults, in this order.
-FIGURES   := fig1_oscillator convergence_oscillator backward_error
+FIGURES   := fig1_oscillator convergence_oscillator backward_error work_precision
 
-.PHONY: all deps build figures test sanitize clean
+.PHONY: all deps build figures test bench sanitize clean
 
 all: build
 
@@ -48,6 +48,11 @@ figures: build
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+
+# Nanoseconds per step, baselines, subnormals, ensembles (timings: never part of make test).
+bench: build
+	@mkdir -p $(OUT)
+	@$(BUILD)/experiments/bench_steps --out $(OUT)
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

@@ -37,6 +37,10 @@ const BadInput bad_inputs[] = {
     {"backward_error", "--alpha=-0.5", "alpha must be a non-negative"},
     {"backward_error", "--tol 1", "tol must be in"},
     {"backward_error", "--T 0", "T must be a positive"},
+    {"work_precision", "--alpha nan", "alpha must be a non-negative"},
+    {"work_precision", "--reps 0", "reps must be in"},
+    {"bench_steps", "--steps 10", "steps must be at least"},
+    {"bench_steps", "--reps 1", "reps must be at least"},
 };
 
 }  // namespace
@@ -64,7 +68,7 @@ TEST_CASE("an unwritable output folder is refused", "[programs]") {
 }
 
 TEST_CASE("--help prints usage and exits 0", "[programs]") {
-  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error"}) {
+  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error", "work_precision", "bench_steps"}) {
     const auto r = run_program(p, "--help");
     INFO(p);
     CHECK(r.exit_code == 0);

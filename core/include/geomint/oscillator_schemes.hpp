@@ -17,7 +17,9 @@ struct La {
   static constexpr int order = 1;
   template <class T>
   static void step(OscState<T>& s, T h, T alpha) {
-    s.p = (s.p - h * s.q) / (1 + h * alpha);
+    // multiply by the reciprocal: loop-invariant, so the division leaves the step's critical path
+    const T c = 1 / (1 + h * alpha);
+    s.p = (s.p - h * s.q) * c;
     s.q = s.q + h * s.p;
   }
   // Forced discrete Euler–Lagrange residual (1) at q_j given q_{j-1}, q_j, q_{j+1}.
@@ -34,7 +36,8 @@ struct LaPrinted {
   static constexpr int order = 0;
   template <class T>
   static void step(OscState<T>& s, T h, T alpha) {
-    s.p = (s.p - h * s.q) / (1 + alpha);
+    const T c = 1 / (1 + alpha);
+    s.p = (s.p - h * s.q) * c;
     s.q = s.q + h * s.p;
   }
 };
@@ -49,7 +52,8 @@ struct Contact {
   template <class T>
   static void step(OscState<T>& s, T h, T alpha) {
     const T qn = (1 - h * h / 2) * s.q + h * (1 - h * alpha) * s.p;
-    const T v = (qn - s.q) / h;
+    const T inv_h = 1 / h;  // loop-invariant reciprocal: no division inside a run
+    const T v = (qn - s.q) * inv_h;
     s.z = s.z + h * (v * v / 2 - (s.q * s.q + qn * qn) / 4 - alpha * s.z);
     s.p = (1 - h * alpha) * s.p - h / 2 * (qn + s.q);
     s.q = qn;
@@ -74,8 +78,8 @@ struct Leapfrog {
   static constexpr int order = 2;
   template <class T>
   static void step(OscState<T>& s, T h, T alpha) {
-    const T d = 1 + h * alpha / 2;
-    const T ph = (s.p - h / 2 * s.q) / d;
+    const T d = 1 / (1 + h * alpha / 2);
+    const T ph = (s.p - h / 2 * s.q) * d;
     s.q = s.q + h * ph;
     s.p = ph - h / 2 * (s.q + alpha * ph);
   }
@@ -92,7 +96,7 @@ struct LaMidpoint {
   static constexpr int order = 2;
   template <class T>
   static void step(OscState<T>& s, T h, T alpha) {
-    const T v = (s.p - h * s.q / 2) / (1 + h * alpha / 2 + h * h / 4);
+    const T v = (s.p - h * s.q / 2) * (1 / (1 + h * alpha / 2 + h * h / 4));
     s.p = (1 - h * alpha / 2 - h * h / 4) * v - h * s.q / 2;
     s.q = s.q + h * v;
   }
@@ -116,8 +120,9 @@ struct ContactSymmetric {
     const T v = (1 - h * alpha / 2) * s.p - h * s.q / 2;
     const T qn = s.q + h * v;
     const T A = v * v / 2 - (s.q * s.q + qn * qn) / 4;
-    s.z = ((1 - h * alpha / 2) * s.z + h * A) / (1 + h * alpha / 2);
-    s.p = (v - h * qn / 2) / (1 + h * alpha / 2);
+    const T d = 1 / (1 + h * alpha / 2);
+    s.z = ((1 - h * alpha / 2) * s.z + h * A) * d;
+    s.p = (v - h * qn / 2) * d;
     s.q = qn;
   }
 };

@@ -1,0 +1,226 @@
+// Benchmark (make bench): nanoseconds per step of every geomint oscillator scheme against a bare
+// hand-written loop of the same formulas and against Boost.Odeint and GSL baselines on the same problem;
+// subnormal slow-down and its remedy; ensemble throughput on one and two cores.
+// Medians over repetitions; every ratio is between medians measured in this run.
+//   bench_steps [--steps 2000000] [--reps 9] [--out out]
+// Writes out/bench_steps.tsv (timings: not reproducible bit for bit, by nature).
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include <boost/numeric/odeint.hpp>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+
+#include "geomint/cli.hpp"
+#include "geomint/ensemble.hpp"
+#include "geomint/error.hpp"
+#include "geomint/fp_env.hpp"
+#include "geomint/integrate.hpp"
+#include "geomint/io.hpp"
+#include "geomint/oscillator_schemes.hpp"
+#include "geomint/timing.hpp"
+
+using namespace geomint;
+namespace odeint = boost::numeric::odeint;
+using State2 = std::array<double, 2>;
+
+namespace {
+
+struct Row {
+  std::string group, name;
+  TimingStats t;
+  double units;  // steps (or trajectory-steps) per timed call
+  double ns() const { return t.median / units * 1e9; }
+};
+
+template <class S>
+double run_library(long N, double h, double alpha) {
+  OscState<double> s{-0.25, 0.75, 0};
+  integrate_const<S>(s, h, N, alpha, [](long, const OscState<double>&) {});
+  do_not_optimize(s.q);
+  return s.q;
+}
+
+int gsl_rhs(double, const double y[], double f[], void* params) {
+  const double alpha = *static_cast<double*>(params);
+  f[0] = y[1];
+  f[1] = -y[0] - alpha * y[1];
+  return GSL_SUCCESS;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return guarded_main("bench_steps", [&] {
+    long N = 2000000;
+    int reps = 9;
+    Cli cli("bench_steps", "ns per step of every scheme, baselines, subnormals, ensembles");
+    cli.options.add_options()("steps", po::value(&N)->default_value(N), "steps per timed run")(
+        "reps", po::value(&reps)->default_value(reps), "timed repetitions (median reported)");
+    if (!cli.parse(argc, argv)) return 0;
+    require(N >= 1000, "steps must be at least 1000");
+    require(reps >= 3, "reps must be at least 3");
+    const auto dir = prepare_output_dir(cli.out);
+    const double h = 0.01, alpha = 0.1, tol = 1e-10;
+    std::vector<Row> rows;
+    auto add = [&](const std::string& g, const std::string& n, double units, auto&& fn) {
+      rows.push_back({g, n, time_median(fn, reps), units});
+      std::printf("  %-28s %10.3f ns/step\n", n.c_str(), rows.back().ns());
+      std::fflush(stdout);
+    };
+
+    std::printf("oscillator alpha = %g, h = %g, %ld steps per run, median of %d\n", alpha, h, N, reps);
+    add("oscillator", "geomint la", N, [&] { run_library<schemes::La>(N, h, alpha); });
+    add("oscillator", "bare la", N, [&] {
+      double q = -0.25, p = 0.75;
+      const double c = 1 / (1 + h * alpha);
+      for (long j = 0; j < N; ++j) {
+        p = (p - h * q) * c;
+        q = q + h * p;
+      }
+      do_not_optimize(q);
+    });
+    add("oscillator", "geomint contact", N, [&] { run_library<schemes::Contact>(N, h, alpha); });
+    add("oscillator", "bare contact", N, [&] {
+      double q = -0.25, p = 0.75, z = 0;
+      const double inv_h = 1 / h;
+      for (long j = 0; j < N; ++j) {
+        const double qn = (1 - h * h / 2) * q + h * (1 - h * alpha) * p;
+        const double v = (qn - q) * inv_h;
+        z = z + h * (v * v / 2 - (q * q + qn * qn) / 4 - alpha * z);
+        p = (1 - h * alpha) * p - h / 2 * (qn + q);
+        q = qn;
+      }
+      do_not_optimize(q);
+      do_not_optimize(z);
+    });
+    add("oscillator", "geomint la-printed", N, [&] { run_library<schemes::LaPrinted>(N, h, alpha); });
+    add("oscillator", "geomint la-midpoint", N, [&] { run_library<schemes::LaMidpoint>(N, h, alpha); });
+    add("oscillator", "geomint contact-sym", N, [&] { run_library<schemes::ContactSymmetric>(N, h, alpha); });
+    add("oscillator", "geomint leapfrog", N, [&] { run_library<schemes::Leapfrog>(N, h, alpha); });
+
+    auto sys = [alpha](const State2& x, State2& dx, double) {
+      dx[0] = x[1];
+      dx[1] = -x[0] - alpha * x[1];
+    };
+    add("oscillator", "odeint runge_kutta4", N, [&] {
+      odeint::runge_kutta4<State2> st;
+      State2 x{-0.25, 0.75};
+      for (long j = 0; j < N; ++j) st.do_step(sys, x, static_cast<double>(j) * h, h);
+      do_not_optimize(x[0]);
+    });
+    // Adaptive baselines: integrate to T and divide by the number of steps they took.
+    const double Tad = 2000;
+    size_t steps_dopri = 0, steps_bs = 0, steps_gsl = 0;
+    {
+      State2 x{-0.25, 0.75};
+      steps_dopri = odeint::integrate_adaptive(odeint::make_controlled(tol, tol, odeint::runge_kutta_dopri5<State2>()),
+                                               sys, x, 0.0, Tad, 0.01);
+      State2 y{-0.25, 0.75};
+      odeint::bulirsch_stoer<State2> bs(tol, tol);
+      steps_bs = odeint::integrate_adaptive(bs, sys, y, 0.0, Tad, 0.01);
+    }
+    add("oscillator", "odeint dopri5 (tol 1e-10)", static_cast<double>(steps_dopri), [&] {
+      State2 x{-0.25, 0.75};
+      odeint::integrate_adaptive(odeint::make_controlled(tol, tol, odeint::runge_kutta_dopri5<State2>()), sys, x, 0.0,
+                                 Tad, 0.01);
+      do_not_optimize(x[0]);
+    });
+    add("oscillator", "odeint bulirsch_stoer (1e-10)", static_cast<double>(steps_bs), [&] {
+      State2 x{-0.25, 0.75};
+      odeint::bulirsch_stoer<State2> bs(tol, tol);
+      odeint::integrate_adaptive(bs, sys, x, 0.0, Tad, 0.01);
+      do_not_optimize(x[0]);
+    });
+    auto gsl_run = [&](size_t* count) {
+      double a = alpha;
+      gsl_odeiv2_system gs{gsl_rhs, nullptr, 2, &a};
+      gsl_odeiv2_step* st = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 2);
+      gsl_odeiv2_control* c = gsl_odeiv2_control_y_new(tol, tol);
+      gsl_odeiv2_evolve* ev = gsl_odeiv2_evolve_alloc(2);
+      double t = 0, dt = 0.01, y[2] = {-0.25, 0.75};
+      size_t n = 0;
+      while (t < Tad) {
+        if (gsl_odeiv2_evolve_apply(ev, c, st, &gs, &t, Tad, &dt, y) != GSL_SUCCESS) break;
+        ++n;
+      }
+      gsl_odeiv2_evolve_free(ev);
+      gsl_odeiv2_control_free(c);
+      gsl_odeiv2_step_free(st);
+      do_not_optimize(y[0]);
+      if (count) *count = n;
+    };
+    gsl_run(&steps_gsl);
+    add("oscillator", "GSL rk8pd (tol 1e-10)", static_cast<double>(steps_gsl), [&] { gsl_run(nullptr); });
+
+    // Subnormals: alpha = 1 over t in [0, 1e5] decays below DBL_MIN at t ~ 1400 and stays subnormal.
+    const double hs = 0.01;
+    const long Ns = static_cast<long>(1e5 / hs);
+    std::printf("\nsubnormals: alpha = 1, h = %g, t in [0, 1e5] (%ld steps)\n", hs, Ns);
+    add("subnormal", "contact, plain", Ns, [&] { run_library<schemes::Contact>(Ns, hs, 1.0); });
+    add("subnormal", "contact, flush-to-zero", Ns, [&] {
+      ScopedFlushToZero ftz;
+      run_library<schemes::Contact>(Ns, hs, 1.0);
+    });
+    add("subnormal", "la, plain", Ns, [&] { run_library<schemes::La>(Ns, hs, 1.0); });
+    add("subnormal", "la, flush-to-zero", Ns, [&] {
+      ScopedFlushToZero ftz;
+      run_library<schemes::La>(Ns, hs, 1.0);
+    });
+
+    // Ensembles: M contact oscillators, SoA, vectorized inner loop; one and two threads.
+    const std::size_t M = 8192;
+    const long Ne = std::max(1L, N / 1000);
+    std::printf("\nensemble: %zu contact oscillators x %ld steps (ns per trajectory-step)\n", M, Ne);
+    for (unsigned threads : {1u, 2u}) {
+      add("ensemble", "contact ensemble, " + std::to_string(threads) + " thread(s)", static_cast<double>(M) * Ne, [&] {
+        OscEnsemble e(M);
+        for (std::size_t i = 0; i < M; ++i) {
+          e.q[i] = -0.25 + 1e-6 * static_cast<double>(i);
+          e.p[i] = 0.75;
+        }
+        step_ensemble<schemes::Contact>(e, Ne, h, alpha, threads);
+        do_not_optimize(e.q[M / 2]);
+      });
+    }
+
+    std::map<std::string, double> ns;
+    for (const auto& r : rows) ns[r.name] = r.ns();
+    struct Ratio {
+      std::string what;
+      double value, target;
+      bool less;  // value must be <= target (else >=)
+    };
+    const std::vector<Ratio> ratios = {
+        {"geomint la / bare la", ns["geomint la"] / ns["bare la"], 1.2, true},
+        {"geomint contact / bare contact", ns["geomint contact"] / ns["bare contact"], 1.2, true},
+        {"contact plain / flush-to-zero (alpha=1, 1e5)", ns["contact, plain"] / ns["contact, flush-to-zero"], 0, false},
+        {"la plain / flush-to-zero (alpha=1, 1e5)", ns["la, plain"] / ns["la, flush-to-zero"], 0, false},
+        {"ensemble 1 thread / 2 threads", ns["contact ensemble, 1 thread(s)"] / ns["contact ensemble, 2 thread(s)"], 0,
+         false},
+        {"quoted NumPy loop 1.8 us / geomint contact", 1800.0 / ns["geomint contact"], 300, false},
+        {"quoted scipy fsolve 30 us / geomint contact", 30000.0 / ns["geomint contact"], 2000, false},
+    };
+    std::printf("\nratios (medians of this run)\n");
+    for (const auto& r : ratios) {
+      const bool ok = r.target == 0 || (r.less ? r.value <= r.target : r.value >= r.target);
+      std::printf("  %-46s %9.2f %s\n", r.what.c_str(), r.value,
+                  r.target == 0 ? "" : (ok ? "(target met)" : "(TARGET MISSED)"));
+    }
+
+    const Params params{{"steps", std::to_string(N)}, {"reps", std::to_string(reps)}, {"h", format_number(h)},
+                        {"alpha", format_number(alpha)}, {"adaptive tol", format_number(tol)},
+                        {"note", "timings; medians over reps after one warm-up run"}};
+    TsvWriter tsv(dir / "bench_steps.tsv", "bench_steps", params,
+                  {"group", "case", "ns_per_step_median", "ns_per_step_min", "ns_per_step_max", "reps"});
+    for (const auto& r : rows)
+      tsv.row(r.group, r.name, r.ns(), r.t.min / r.units * 1e9, r.t.max / r.units * 1e9, r.t.reps);
+    tsv.commit();
+    TsvWriter rt(dir / "bench_ratios.tsv", "bench_steps", params, {"ratio", "value", "target"});
+    for (const auto& r : ratios) rt.row(r.what, r.value, r.target == 0 ? std::string("-") : (r.less ? "<= " : ">= ") + format_number(r.target));
+    rt.commit();
+    return 0;
+  });
+}
