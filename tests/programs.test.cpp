@@ -41,6 +41,10 @@ const BadInput bad_inputs[] = {
     {"work_precision", "--reps 0", "reps must be in"},
     {"bench_steps", "--steps 10", "steps must be at least"},
     {"bench_steps", "--reps 1", "reps must be at least"},
+    {"stability_oscillator", "--n 2", "n must be in"},
+    {"stability_oscillator", "--h-min 0", "h-min must be a positive"},
+    {"stability_oscillator", "--h-min 1 --h-max 0.5", "h-max must be finite and exceed"},
+    {"stability_oscillator", "--schemes nosuch", "unknown scheme"},
 };
 
 }  // namespace
@@ -68,9 +72,29 @@ TEST_CASE("an unwritable output folder is refused", "[programs]") {
 }
 
 TEST_CASE("--help prints usage and exits 0", "[programs]") {
-  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error", "work_precision", "bench_steps"}) {
+  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error", "work_precision", "bench_steps", "stability_oscillator"}) {
     const auto r = run_program(p, "--help");
     INFO(p);
     CHECK(r.exit_code == 0);
   }
+}
+
+TEST_CASE("the same command gives byte-identical data files", "[programs][reproducible]") {
+  const auto a = fresh_dir("repro-a"), b = fresh_dir("repro-b");
+  for (const auto& d : {a, b}) {
+    REQUIRE(run_program("fig1_oscillator", "--out " + d.string()).exit_code == 0);
+    REQUIRE(run_program("backward_error", "--h-min 0.02 --out " + d.string()).exit_code == 0);
+  }
+  for (const char* f : {"fig1_oscillator.tsv", "fig1_oscillator_summary.tsv", "backward_error.tsv", "all_orders.tsv",
+                        "backward_error_fits.tsv"}) {
+    std::ifstream fa(a / f, std::ios::binary), fb(b / f, std::ios::binary);
+    const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
+    INFO(f);
+    CHECK(!sa.empty());
+    CHECK(sa == sb);
+    CHECK(sa.find("# git: ") != std::string::npos);
+  }
+  // no temporary file left behind
+  for (const auto& d : {a, b})
+    for (const auto& e : std::filesystem::directory_iterator(d)) CHECK(e.path().extension() != ".tmp");
 }

@@ -88,7 +88,8 @@ void render(const Figure& fig, const std::string& terminal, const std::filesyste
   std::vector<Panel> panels = fig.panels;
   for (auto& p : panels)
     for (auto& s : p.series) {
-      Series clean{{}, {}, s.title, s.style};
+      if (!s.z.empty()) continue;  // heat maps keep their grid; NaN cells are drawn as background
+      Series clean{{}, {}, s.title, s.style, {}};
       for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
         if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) {
           clean.x.push_back(s.x[i]);
@@ -112,7 +113,8 @@ void render(const Figure& fig, const std::string& terminal, const std::filesyste
       bool first = true;
       for (const auto& s : p.series) {
         if (s.x.empty()) continue;  // every point of this series failed
-        cmd += (first ? "" : ", ") + std::string("'-' using 1:2 with ") + s.style + " title " + quote(s.title);
+        cmd += (first ? "" : ", ") + std::string(s.z.empty() ? "'-' using 1:2 with " : "'-' using 1:2:3 with ") +
+               s.style + (s.title.empty() ? std::string(" notitle") : " title " + quote(s.title));
         first = false;
       }
       if (!p.extra_plots.empty()) {
@@ -121,8 +123,22 @@ void render(const Figure& fig, const std::string& terminal, const std::filesyste
       }
       if (first) cmd += "NaN notitle";
       gp << cmd << "\n";
-      for (const auto& s : p.series)
-        if (!s.x.empty()) gp.send1d(std::make_pair(s.x, s.y));
+      for (const auto& s : p.series) {
+        if (s.x.empty()) continue;
+        if (s.z.empty()) {
+          gp.send1d(std::make_pair(s.x, s.y));
+        } else {
+          // x varies fastest; a blank line after each row of constant y makes it a grid for `with image`
+          std::string block;
+          char buf[96];
+          for (std::size_t i = 0; i < s.z.size(); ++i) {
+            std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g\n", s.x[i], s.y[i], s.z[i]);
+            block += buf;
+            if (i + 1 < s.z.size() && s.y[i + 1] != s.y[i]) block += "\n";
+          }
+          gp << block << "e\n";
+        }
+      }
     }
     if (multi) gp << "unset multiplot\n";
     gp << "set output\n";

@@ -22,9 +22,14 @@ struct TsvTable {
 TsvTable read_tsv(const std::filesystem::path& path);
 
 struct Series {
+  Series() = default;
+  Series(std::vector<double> x_, std::vector<double> y_, std::string title_, std::string style_ = "lines",
+         std::vector<double> z_ = {})
+      : x(std::move(x_)), y(std::move(y_)), title(std::move(title_)), style(std::move(style_)), z(std::move(z_)) {}
   std::vector<double> x, y;
   std::string title;
   std::string style = "lines";  // gnuplot "with" clause
+  std::vector<double> z;        // non-empty: a heat map, x/y on a regular grid (row-major), style "image"
 };
 
 struct Panel {

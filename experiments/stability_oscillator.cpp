@@ -1,0 +1,126 @@
+// Where the oscillator schemes fail: maps over (h, alpha) of the one-step map's spectral radius, the
+// discrete decay rate and frequency relative to the exact ones, and the regions where a scheme is
+// unstable, oscillates when it should not (or the reverse), or flips sign at every step.
+// The analytic boundaries (from the closed-form trace and determinant) are drawn on the maps.
+//   stability_oscillator [--n 90] [--out out]
+// Writes out/stability_oscillator.tsv (one row per scheme and grid cell), out/stability_boundaries.tsv and
+// out/stability_oscillator_{regions,decay,frequency}.{png,pdf}.
+#include <cmath>
+#include <cstdio>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/io.hpp"
+#include "geomint/modified/stability.hpp"
+#include "geomint/plots/figure.hpp"
+
+using namespace geomint;
+using namespace geomint::modified;
+
+int main(int argc, char** argv) {
+  return guarded_main("stability_oscillator", [&] {
+    int n = 90;
+    double h_min = 1e-2, h_max = 10, a_min = 1e-3, a_max = 10;
+    std::vector<std::string> names{"la", "la-printed", "contact", "la-midpoint", "contact-sym", "leapfrog"};
+    Cli cli("stability_oscillator", "stability and fidelity maps of the oscillator schemes over (h, alpha)");
+    cli.options.add_options()("n", po::value(&n)->default_value(n), "grid points per axis (log-spaced)")(
+        "h-min", po::value(&h_min)->default_value(h_min), "smallest h")("h-max", po::value(&h_max)->default_value(h_max),
+                                                                          "largest h")(
+        "alpha-min", po::value(&a_min)->default_value(a_min), "smallest alpha")(
+        "alpha-max", po::value(&a_max)->default_value(a_max), "largest alpha")(
+        "schemes", po::value(&names)->multitoken()->default_value(names, "la la-printed contact la-midpoint contact-sym leapfrog"),
+        "schemes");
+    if (!cli.parse(argc, argv)) return 0;
+    require(n >= 4 && n <= 1000, "n must be in [4, 1000]");
+    require_positive(h_min, "h-min");
+    require_positive(a_min, "alpha-min");
+    require(h_max > h_min && std::isfinite(h_max), "h-max must be finite and exceed h-min");
+    require(a_max > a_min && std::isfinite(a_max), "alpha-max must be finite and exceed alpha-min");
+    for (const auto& s : names) all_orders_by_name(s, 0.1, 0.1);  // unknown names fail here
+    const auto dir = prepare_output_dir(cli.out);
+
+    std::vector<double> hs, as;
+    for (int i = 0; i < n; ++i) {
+      hs.push_back(h_min * std::pow(h_max / h_min, i / (n - 1.0)));
+      as.push_back(a_min * std::pow(a_max / a_min, i / (n - 1.0)));
+    }
+    const Params params{{"n", std::to_string(n)}, {"h", format_number(h_min) + ".." + format_number(h_max) + " log"},
+                        {"alpha", format_number(a_min) + ".." + format_number(a_max) + " log"},
+                        {"exact", "q'' + alpha q' + q = 0: decay rate alpha/2, frequency sqrt(1 - alpha^2/4)"}};
+    TsvWriter tsv(dir / "stability_oscillator.tsv", "stability_oscillator", params,
+                  {"scheme", "h", "alpha", "spectral_radius", "region", "decay_ratio", "freq_ratio"});
+    std::printf("%-12s %10s %10s %10s %10s   (share of the grid)\n", "scheme", "faithful", "wrong-char", "sign-flip",
+                "unstable");
+    for (const auto& s : names) {
+      int count[4] = {0, 0, 0, 0};
+      for (double a : as)
+        for (double h : hs) {
+          const auto m = all_orders_by_name(s, h, a);
+          const Region r = classify(m, a);
+          ++count[static_cast<int>(r)];
+          // decay ratio a_h / alpha; frequency ratio where both oscillate
+          const double dr = m.valid ? m.a / a : std::nan("");
+          const double w = a < 2 && m.valid && m.oscillating ? std::sqrt(m.b - m.a * m.a / 4) / std::sqrt(1 - a * a / 4)
+                                                           : std::nan("");
+          tsv.row(s, h, a, m.spectral_radius, static_cast<int>(r), dr, w);
+        }
+      const double tot = static_cast<double>(n) * n;
+      std::printf("%-12s %10.3f %10.3f %10.3f %10.3f\n", s.c_str(), count[0] / tot, count[1] / tot, count[2] / tot,
+                  count[3] / tot);
+    }
+    tsv.commit();
+    TsvWriter bt(dir / "stability_boundaries.tsv", "stability_oscillator", params, {"scheme", "h", "alpha", "below", "above"});
+    std::vector<double> fine_a;
+    for (int i = 0; i < 400; ++i) fine_a.push_back(a_min * std::pow(a_max / a_min, i / 399.0));
+    for (const auto& s : names)
+      for (const auto& b : analytic_boundaries(s, fine_a, h_min, h_max)) bt.row(s, b.h, b.alpha, region_name(b.below), region_name(b.above));
+    bt.commit();
+
+    const auto t = plots::read_tsv(dir / "stability_oscillator.tsv");
+    const auto bd = plots::read_tsv(dir / "stability_boundaries.tsv");
+    struct Map {
+      const char* stem;
+      const char* column;
+      const char* title;
+      const char* palette;
+    };
+    const Map maps[] = {
+        {"regions", "region", "regions: 0 faithful, 1 wrong oscillation character, 2 sign flip, 3 unstable",
+         "set cbrange [-0.5:3.5]\nset palette maxcolors 4 defined (0 '#d9f0d3', 1 '#fdb863', 2 '#b2abd2', 3 '#d7191c')\n"
+         "set cbtics ('faithful' 0, 'wrong char.' 1, 'sign flip' 2, 'unstable' 3)\n"},
+        {"decay", "decay_ratio", "discrete decay rate / exact decay rate (a_h / alpha)",
+         "set cbrange [0:2]\nset palette defined (0 '#2166ac', 1 '#f7f7f7', 2 '#b2182b')\n"},
+        {"frequency", "freq_ratio", "discrete frequency / exact frequency",
+         "set cbrange [0.5:1.5]\nset palette defined (0 '#2166ac', 1 '#f7f7f7', 2 '#b2182b')\n"},
+    };
+    for (const auto& mp : maps) {
+      plots::Figure fig;
+      fig.title = std::string("Oscillator schemes over (h, alpha): ") + mp.title;
+      fig.cols = 3;
+      fig.rows = static_cast<int>((names.size() + 2) / 3);
+      fig.width_in = 13;
+      fig.height_in = 4.2 * fig.rows;
+      for (const auto& s : names) {
+        plots::Panel p;
+        p.setup = std::string("set xlabel 'log_{10} h'\nset ylabel 'log_{10} alpha'\nset title '") + s +
+                  "'\nset key bottom left font ',7'\nset xrange [" + format_number(std::log10(h_min)) + ":" +
+                  format_number(std::log10(h_max)) + "]\nset yrange [" + format_number(std::log10(a_min)) + ":" +
+                  format_number(std::log10(a_max)) + "]\n" + mp.palette;
+        auto keep = [&](size_t i) { return t.text(i, "scheme") == s; };
+        auto lx = t.numbers("h", keep), ly = t.numbers("alpha", keep);
+        for (auto& v : lx) v = std::log10(v);
+        for (auto& v : ly) v = std::log10(v);
+        plots::Series img{lx, ly, "", "image", t.numbers(mp.column, keep)};
+        p.series.push_back(std::move(img));
+        auto bkeep = [&](size_t i) { return bd.text(i, "scheme") == s; };
+        auto bx = bd.numbers("h", bkeep), by = bd.numbers("alpha", bkeep);
+        for (auto& v : bx) v = std::log10(v);
+        for (auto& v : by) v = std::log10(v);
+        if (!bx.empty()) p.series.push_back({bx, by, "analytic boundaries", "points pt 7 ps 0.15 lc rgb 'black'"});
+        fig.panels.push_back(std::move(p));
+      }
+      fig.draw(dir / (std::string("stability_oscillator_") + mp.stem));
+    }
+    return 0;
+  });
+}

@@ -1,0 +1,101 @@
+#include "geomint/modified/stability.hpp"
+
+#include <cmath>
+
+#include "geomint/error.hpp"
+#include "geomint/oscillator_schemes.hpp"
+
+namespace geomint::modified {
+
+const char* region_name(Region r) {
+  switch (r) {
+    case Region::faithful: return "faithful";
+    case Region::wrong_character: return "wrong-character";
+    case Region::sign_flip: return "sign-flip";
+    case Region::unstable: return "unstable";
+  }
+  return "?";
+}
+
+namespace {
+Region classify_trace_det(double tr, double det, double alpha) {
+  const double disc = tr * tr - 4 * det;
+  const bool continuous_oscillates = alpha < 2;
+  if (disc < 0) {
+    if (det > 1) return Region::unstable;
+    return continuous_oscillates ? Region::faithful : Region::wrong_character;
+  }
+  const double s = std::sqrt(disc);
+  const double l1 = (tr + s) / 2, l2 = (tr - s) / 2;
+  if (std::max(std::abs(l1), std::abs(l2)) > 1) return Region::unstable;
+  if (l2 < 0) return Region::sign_flip;
+  return continuous_oscillates ? Region::wrong_character : Region::faithful;
+}
+}  // namespace
+
+Region classify(const AllOrders& m, double alpha) { return classify_trace_det(m.tr, m.det, alpha); }
+
+AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha) {
+  using namespace schemes;
+  if (scheme == "la") return all_orders<La>(h, alpha);
+  if (scheme == "la-printed") return all_orders<LaPrinted>(h, alpha);
+  if (scheme == "contact") return all_orders<Contact>(h, alpha);
+  if (scheme == "leapfrog") return all_orders<Leapfrog>(h, alpha);
+  if (scheme == "la-midpoint") return all_orders<LaMidpoint>(h, alpha);
+  if (scheme == "contact-sym") return all_orders<ContactSymmetric>(h, alpha);
+  throw InputError("unknown scheme '" + scheme + "'");
+}
+
+bool analytic_trace_det(const std::string& scheme, double h, double a, double& tr, double& det) {
+  if (scheme == "la") {
+    tr = (2 + h * a - h * h) / (1 + h * a);
+    det = 1 / (1 + h * a);
+  } else if (scheme == "la-printed") {
+    tr = (2 + a - h * h) / (1 + a);
+    det = 1 / (1 + a);
+  } else if (scheme == "contact") {
+    tr = (1 - h * h / 2) * (2 - h * a);
+    det = 1 - h * a;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+std::vector<BoundaryPoint> analytic_boundaries(const std::string& scheme, const std::vector<double>& alphas,
+                                               double h_min, double h_max) {
+  std::vector<BoundaryPoint> out;
+  double tr, det;
+  if (!analytic_trace_det(scheme, 1, 1, tr, det)) return out;
+  auto region = [&](double h, double a) {
+    analytic_trace_det(scheme, h, a, tr, det);
+    return classify_trace_det(tr, det, a);
+  };
+  const int n = 4000;  // fine log scan, then bisection to round-off
+  for (double a : alphas) {
+    double h0 = h_min;
+    Region r0 = region(h0, a);
+    for (int i = 1; i <= n; ++i) {
+      const double h1 = h_min * std::pow(h_max / h_min, static_cast<double>(i) / n);
+      const Region r1 = region(h1, a);
+      // Several boundaries may fall in one scan interval (LA's sign-flip sliver below its stability
+      // limit): bisect for the first change, record it, and go on from just above it.
+      while (r1 != r0) {
+        double lo = h0, hi = h1;
+        for (int k = 0; k < 200 && hi - lo > 1e-15 * hi; ++k) {
+          const double mid = (lo + hi) / 2;
+          (region(mid, a) == r0 ? lo : hi) = mid;
+        }
+        const Region above = region(hi, a);
+        out.push_back({(lo + hi) / 2, a, r0, above});
+        h0 = hi;
+        r0 = above;
+      }
+      h0 = h1;
+      r0 = r1;
+    }
+  }
+  return out;
+}
+
+}  // namespace geomint::modified
