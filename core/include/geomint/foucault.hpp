@@ -1,0 +1,564 @@
+#pragma once
+// The damped Foucault pendulum of Section 3.2, reduced to the plane q = (x, y):
+//   L = m/2 |q'|^2 - m w2/2 |q|^2  (12), (14),   w2 = g/l,
+//   Rayleigh force F = -alpha m q'  (LA)   or   L - alpha z  (Herglotz, (16)),
+//   nonholonomic constraint (13):  Phi(q, q') = -y x' + x y' + s (x^2 + y^2) = 0,   s = Omega sin(beta).
+// Writing A(q) = (-y, x) for the covector of (13), Phi = A(q).q' + s |q|^2: affine in q'.
+//
+// What is here, in the order of the design (scene -> scheme -> integrate -> observer):
+//   FoucaultScene            parameters, initial data, horizon (double; validate() for user input)
+//   FoucaultParams<T>        the scalars a step needs, in the scalar type T (double, long double, ...)
+//   schemes::LaNh            the LA nonholonomic integrator, eq. (15)            name "la-nh"
+//   schemes::ContactNh       the contact nonholonomic integrator, eq. (18)       name "contact-nh"
+//   FoucaultStart            how q_1 is obtained from (q0, q0') (see below)
+//   integrate_foucault       fixed count of steps, two-step recurrence (q_{j-1}, q_j) -> (q_j, q_{j+1})
+//   FoucaultDiagnostics<T>   observer: energy, constraint residual, lambda, min distance, plane angle
+//   foucault_exact / foucault_reference   closed-form solution and the Boost.Odeint reference
+//
+// Both steps are linear in (q_{j+1}, lambda): the two dynamic rows give q_{j+1} as an affine function
+// of lambda, and substituting that into the discrete constraint (the third row, (13) composed with the
+// discretizing map Psi(q_j, q_{j+1}) = (q_j, (q_{j+1} - q_j)/h)) gives lambda in closed form, with
+// r_j^2 = x_j^2 + y_j^2 in the denominator. `system()` builds the literal 3x3 system for tests and for
+// an Eigen PartialPivLU cross-check; `residual()` restates the equations as printed.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "geomint/error.hpp"
+#include "geomint/oscillator.hpp"  // linear_oscillator_solution
+
+namespace geomint {
+
+inline constexpr double foucault_pi = 3.14159265358979323846;
+
+template <class T>
+using Vec2 = Eigen::Matrix<T, 2, 1>;
+template <class T>
+using Vec3 = Eigen::Matrix<T, 3, 1>;
+template <class T>
+using Mat3 = Eigen::Matrix<T, 3, 3>;
+
+// ---------------------------------------------------------------------------------------------------
+// Scene
+
+struct FoucaultScene {
+  double m = 28;             // kg
+  double l = 67;             // m
+  double g = 9.81;           // m/s^2
+  double beta_deg = 49;      // latitude, degrees
+  double Omega = 7.2921e-5;  // Earth's angular velocity, rad/s
+  double alpha = 1e-3;       // Rayleigh damping, 1/s
+  double x0 = 0.67, y0 = 0;  // q(0), m
+  double vx0 = 0, vy0 = 0;   // q'(0), m/s (the paper's (0, 0) violates (13): see FoucaultStart)
+  double T = 3600;           // horizon, s
+  // Throws InputError naming the first bad parameter.
+  void validate() const;
+  double w2() const { return g / l; }
+  double s() const;  // Omega sin(beta)
+};
+
+// The scalars of one run in the scalar type T. sin(beta) is evaluated in T, so a long double run is a
+// long double run of the same (double) scene, not a long double run of a rounded s.
+template <class T>
+struct FoucaultParams {
+  T m, w2, s, alpha;
+  explicit FoucaultParams(const FoucaultScene& sc)
+      : m(sc.m), w2(T(sc.g) / T(sc.l)), s(T(sc.Omega) * sin_deg(T(sc.beta_deg))), alpha(sc.alpha) {}
+
+ private:
+  static T sin_deg(T deg) {
+    using std::acos;
+    using std::sin;
+    return sin(deg * acos(T(-1)) / 180);
+  }
+};
+
+// ---------------------------------------------------------------------------------------------------
+// The continuous objects
+
+template <class T>
+T cross(const Vec2<T>& a, const Vec2<T>& b) {
+  return a(0) * b(1) - a(1) * b(0);
+}
+
+// A(q) = (-y, x): the covector of the velocities in (13); the constraint force is lambda A(q).
+template <class T>
+Vec2<T> constraint_covector(const Vec2<T>& q) {
+  return Vec2<T>(-q(1), q(0));
+}
+
+// Phi(q, v) of (13).
+template <class T>
+T foucault_constraint(const FoucaultParams<T>& p, const Vec2<T>& q, const Vec2<T>& v) {
+  return -q(1) * v(0) + q(0) * v(1) + p.s * q.squaredNorm();
+}
+
+// The discrete constraint Phi_d(q_j, q_{j+1}) = Phi(Psi(q_j, q_{j+1})), Psi(q_j, q_{j+1}) = (q_j, (q_{j+1}-q_j)/h):
+// the third row of (15) and of (18) (the same in both, as the paper notes).
+template <class T>
+T discrete_constraint(const FoucaultParams<T>& p, const Vec2<T>& q, const Vec2<T>& qn, T h) {
+  return -q(1) * (qn(0) - q(0)) / h + q(0) * (qn(1) - q(1)) / h + p.s * q.squaredNorm();
+}
+
+// The round-off scale of Phi_d: storing q_{j+1} to relative precision eps moves Phi_d by up to
+// eps |q_j| |q_{j+1}| / h, and the products in Phi_d add eps |q_j| |q_j| / h. Residuals are reported
+// divided by this, so "round-off" means a few units.
+template <class T>
+T discrete_constraint_scale(const Vec2<T>& q, const Vec2<T>& qn, T h) {
+  return q.norm() * (q.norm() + qn.norm()) / h;
+}
+
+// The minimal-norm change of v that satisfies (13) at q: v - Phi(q, v)/|q|^2 A(q).
+// Requires q != 0 (FoucaultScene::validate refuses q0 = 0).
+template <class T>
+Vec2<T> consistent_velocity(const FoucaultParams<T>& p, const Vec2<T>& q, const Vec2<T>& v) {
+  return v - foucault_constraint(p, q, v) / q.squaredNorm() * constraint_covector(q);
+}
+
+// E = m/2 |v|^2 + m w2/2 |q|^2, from (12).
+template <class T>
+T foucault_energy(const FoucaultParams<T>& p, const Vec2<T>& q, const Vec2<T>& v) {
+  return p.m / 2 * v.squaredNorm() + p.m * p.w2 / 2 * q.squaredNorm();
+}
+
+// The discrete energy used in every diagnostic: at the half step t_{j+1/2}, with the chord velocity
+// (q_{j+1} - q_j)/h and the midpoint position (q_j + q_{j+1})/2. Both are O(h^2)-accurate at t_{j+1/2},
+// the definition does not depend on the scheme (so LA and contact are measured with the same ruler),
+// and it needs no step beyond q_N.
+template <class T>
+T chord_energy(const FoucaultParams<T>& p, const Vec2<T>& q, const Vec2<T>& qn, T h) {
+  return foucault_energy<T>(p, (q + qn) / 2, (qn - q) / h);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Starting procedure
+//
+// A two-step scheme needs q_1 (equivalently a virtual q_{-1}) besides q_0. The paper gives
+// q(0) = (0.67, 0), q'(0) = (0, 0), which violates (13) (Phi = s |q0|^2 != 0), and does not say how the
+// first step was taken. Two choices, selectable:
+//
+//   legendre (default): project q'(0) onto (13) at q0 (minimal-norm change along A(q0)), take the
+//     continuous momentum p0 = m v0 as the discrete momentum p_0^- of the scheme, and solve the scheme's
+//     own discrete Legendre transform with the constraint force,
+//         p_0^+ = p_0^- - lambda A(q0),   Phi_d(q0, q1) = 0,
+//     which is linear in (q1, lambda). This is what a variational integrator means by "start from
+//     (q0, p0)": the first step is the j = 0 equation of the scheme with D2 L_d(q_{-1}, q_0) replaced by
+//     p0. Equivalently, it is the regular step from a virtual q_{-1} with D2 L_d(q_{-1}, q0) = p0:
+//         LA (15):       p_0^- = m (q0 - q_{-1})/h                       => q_{-1} = q0 - h v0
+//         contact (18):  p_0^- = D2 L_d = m ((q0 - q_{-1})/h - h w2 q0/2)  => q_{-1} = q0 - h v0 - h^2 w2 q0/2
+//     (for contact, p_j = D2 L_d(q_{j-1}, q_j, z_{j-1}) = -D1 L_d(q_j, q_{j+1}, z_j)/(1 - h alpha) as in
+//     eq. (10)). We chose it because it is the scheme's own map from (q, p) to (q_j, q_{j+1}), so the
+//     first step carries no extra error: both schemes keep their observed orders (contact's error looks
+//     O(h^2) at small alpha only with this start; see convergence_foucault).
+//   taylor: the naive backward Euler start q_{-1} = q0 - h q'(0) with the raw (unprojected) q'(0).
+//     For LA it is the same start as legendre: the A(q0)-component of q'(0) that the projection removes
+//     is absorbed by lambda, and F_d^+ = 0 makes p_0^- = m (q0 - q_{-1})/h. For contact it misses the
+//     h w2 q0/2 term of the discrete momentum: an O(h) error in the initial velocity, so an O(h) global
+//     error (and a different sequence of passes near the origin).
+// The projection matters for the continuous reference, which must start on (13).
+enum class FoucaultStart { legendre, taylor };
+
+FoucaultStart parse_foucault_start(const std::string& name);  // InputError for an unknown name
+const char* to_string(FoucaultStart s);
+
+// The literal 3x3 linear system of one step, unknowns z = (x_{j+1}, y_{j+1}, lambda_1).
+template <class T>
+struct LinearStep {
+  Mat3<T> A;
+  Vec3<T> b;
+};
+
+namespace schemes {
+
+namespace detail {
+template <class T>
+void require_solvable(T r2, long j) {
+  using std::isfinite;
+  if (!(r2 > 0) || !isfinite(r2))
+    throw NumericalFailure(j, "r_j^2",
+                           "q_j is at the origin or not finite: the constraint (13) gives no equation for lambda");
+}
+}  // namespace detail
+
+// Lagrange–d'Alembert nonholonomic integrator, eq. (15): the forced constrained discrete Euler–Lagrange
+// equations (1) with L_d(q_j, q_{j+1}) = h L(q_j, (q_{j+1}-q_j)/h), F_d^-(q_j, q_{j+1}) = -alpha m (q_{j+1}-q_j),
+// F_d^+ = 0, and the discrete constraint (13) o Psi. Rows 1-2 of (15) are m^{-1} times
+//   D1 L_d(q_j, q_{j+1}) + D2 L_d(q_{j-1}, q_j) + F_d^-(q_j, q_{j+1}) = lambda_1 A(q_j),
+// so lambda_1 is an impulse over one step (N s / m); the continuous multiplier is lambda_1 / h.
+struct LaNh {
+  static constexpr const char* name = "la-nh";
+  static constexpr int order = 1;
+
+  template <class T>
+  static T lambda_force(T lambda1, T h) {
+    return lambda1 / h;
+  }
+
+  // Virtual q_{-1} of the chosen start (see FoucaultStart).
+  template <class T>
+  static Vec2<T> previous_point(const FoucaultParams<T>& p, const Vec2<T>& q0, const Vec2<T>& v0, T h,
+                                FoucaultStart start) {
+    if (start == FoucaultStart::taylor) return q0 - h * v0;
+    return q0 - h * consistent_velocity(p, q0, v0);
+  }
+
+  // (15) as printed, left-hand sides of the three rows.
+  template <class T>
+  static Vec3<T> residual(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, const Vec2<T>& qn,
+                          T lambda1, T h) {
+    const T xm = qm(0), ym = qm(1), x = q(0), y = q(1), xn = qn(0), yn = qn(1);
+    Vec3<T> r;
+    r(0) = (-xn + 2 * x - xm) / h - h * p.w2 * x - p.alpha * (xn - x) + lambda1 * y / p.m;
+    r(1) = (-yn + 2 * y - ym) / h - h * p.w2 * y - p.alpha * (yn - y) - lambda1 * x / p.m;
+    r(2) = -y * (xn - x) / h + x * (yn - y) / h + p.s * (x * x + y * y);
+    return r;
+  }
+
+  // (15) as a linear system in (x_{j+1}, y_{j+1}, lambda_1).
+  template <class T>
+  static LinearStep<T> system(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h) {
+    const T xm = qm(0), ym = qm(1), x = q(0), y = q(1);
+    const T c = 1 / h + p.alpha;
+    LinearStep<T> ls;
+    ls.A << -c, 0, y / p.m,  //
+        0, -c, -x / p.m,     //
+        -y / h, x / h, 0;
+    ls.b << -(2 * x - xm) / h + h * p.w2 * x - p.alpha * x,  //
+        -(2 * y - ym) / h + h * p.w2 * y - p.alpha * y,      //
+        -p.s * (x * x + y * y);
+    return ls;
+  }
+
+  // Closed form. Rows 1-2:  c q_{j+1} = c q_j + (q_j - q_{j-1})/h - h w2 q_j + (lambda_1/m)(y_j, -x_j),
+  // c = 1/h + alpha. Row 3 is q_j x q_{j+1} = -s h r_j^2 (x: the planar cross product), and
+  // q_j x (y_j, -x_j) = -r_j^2, q_j x q_j = 0, so
+  //   lambda_1/m = c s h + (q_{j-1} x q_j) / (h r_j^2).
+  // Round-off: q_{j-1} x q_j is computed directly, with absolute error ~ eps |q_{j-1}| |q_j|, which moves
+  // q_{j+1} by ~ eps |q_{j-1}|, the size of the rounding of the inputs themselves. Writing it as
+  // q_{j-1} x (q_j - q_{j-1}) instead looks better (no cancellation far from the origin) but near the
+  // origin carries eps |q_{j-1}|^2 / r_j into q_{j+1}: 10^3-10^5 times worse when a step lands within
+  // r_j << h |q'| of the origin (found by the long double comparison in tests/foucault.test.cpp).
+  // `j` only labels a NumericalFailure.
+  template <class T>
+  static void step(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h, Vec2<T>& qn, T& lambda1,
+                   long j = -1) {
+    const T r2 = q.squaredNorm();
+    detail::require_solvable(r2, j);
+    const T c = 1 / h + p.alpha;
+    const Vec2<T> d = q - qm;
+    const T lm = c * p.s * h + cross<T>(qm, q) / (h * r2);  // lambda_1 / m
+    const Vec2<T> rhs = d / h - h * p.w2 * q + lm * Vec2<T>(q(1), -q(0));
+    qn = q + rhs / c;
+    lambda1 = lm * p.m;
+  }
+};
+
+// Contact nonholonomic integrator, eq. (18): the constrained discrete Herglotz equations (4) with
+// L_d(q_j, q_{j+1}, z_j) = h [ m/2 |(q_{j+1}-q_j)/h|^2 - (V(q_j) + V(q_{j+1}))/2 - alpha z_j ] (as in (10), (17)),
+// so D3 L_d = -h alpha, D4 L_d = 0, and the same discrete constraint. Rows 1-2 of (18) are (m h)^{-1} times
+//   D1 L_d(q_j, q_{j+1}) + D2 L_d(q_{j-1}, q_j) (1 - h alpha) = h lambda_1 A(q_j),
+// so lambda_1 is already a force multiplier (kg/s), comparable with the continuous lambda.
+struct ContactNh {
+  static constexpr const char* name = "contact-nh";
+  static constexpr int order = 1;
+
+  template <class T>
+  static T lambda_force(T lambda1, T /*h*/) {
+    return lambda1;
+  }
+
+  template <class T>
+  static Vec2<T> previous_point(const FoucaultParams<T>& p, const Vec2<T>& q0, const Vec2<T>& v0, T h,
+                                FoucaultStart start) {
+    if (start == FoucaultStart::taylor) return q0 - h * v0;
+    return q0 - h * consistent_velocity(p, q0, v0) - h * h * p.w2 / 2 * q0;
+  }
+
+  // (18) as printed, left-hand sides of the three rows.
+  template <class T>
+  static Vec3<T> residual(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, const Vec2<T>& qn,
+                          T lambda1, T h) {
+    const T xm = qm(0), ym = qm(1), x = q(0), y = q(1), xn = qn(0), yn = qn(1);
+    Vec3<T> r;
+    r(0) = (-xn + 2 * x - xm) / (h * h) - p.w2 * x - p.alpha * ((x - xm) / h - h * p.w2 / 2 * x) +
+           lambda1 * y / p.m;
+    r(1) = (-yn + 2 * y - ym) / (h * h) - p.w2 * y - p.alpha * ((y - ym) / h - h * p.w2 / 2 * y) -
+           lambda1 * x / p.m;
+    r(2) = -y * (xn - x) / h + x * (yn - y) / h + p.s * (x * x + y * y);
+    return r;
+  }
+
+  template <class T>
+  static LinearStep<T> system(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h) {
+    const T xm = qm(0), ym = qm(1), x = q(0), y = q(1);
+    const T k = 1 / (h * h);
+    LinearStep<T> ls;
+    ls.A << -k, 0, y / p.m,  //
+        0, -k, -x / p.m,     //
+        -y / h, x / h, 0;
+    ls.b << -(2 * x - xm) * k + p.w2 * x + p.alpha * ((x - xm) / h - h * p.w2 / 2 * x),  //
+        -(2 * y - ym) * k + p.w2 * y + p.alpha * ((y - ym) / h - h * p.w2 / 2 * y),      //
+        -p.s * (x * x + y * y);
+    return ls;
+  }
+
+  // Closed form. Rows 1-2:
+  //   q_{j+1} = q_j + (1 - h alpha)(q_j - q_{j-1}) - h^2 w2 (1 - h alpha/2) q_j + h^2 (lambda_1/m)(y_j, -x_j),
+  // and row 3, q_j x q_{j+1} = -s h r_j^2, with q_j x q_j = 0, gives
+  //   lambda_1/m = [ s h r_j^2 + (1 - h alpha) q_{j-1} x q_j ] / (h^2 r_j^2)
+  // (q_{j-1} x q_j computed directly: see LaNh::step for why).
+  template <class T>
+  static void step(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h, Vec2<T>& qn, T& lambda1,
+                   long j = -1) {
+    const T r2 = q.squaredNorm();
+    detail::require_solvable(r2, j);
+    const T damp = 1 - h * p.alpha;
+    const Vec2<T> d = q - qm;
+    const T lm = (p.s * h * r2 + damp * cross<T>(qm, q)) / (h * h * r2);  // lambda_1 / m
+    qn = q + damp * d - h * h * p.w2 * (1 - h * p.alpha / 2) * q + h * h * lm * Vec2<T>(q(1), -q(0));
+    lambda1 = lm * p.m;
+  }
+};
+
+}  // namespace schemes
+
+// Calls f(schemes::LaNh{}) or f(schemes::ContactNh{}) by name; InputError naming both otherwise.
+template <class F>
+decltype(auto) visit_foucault_scheme(const std::string& name, F&& f) {
+  if (name == schemes::LaNh::name) return f(schemes::LaNh{});
+  if (name == schemes::ContactNh::name) return f(schemes::ContactNh{});
+  throw InputError("unknown scheme '" + name + "' (known: la-nh contact-nh)");
+}
+const std::vector<std::string>& foucault_scheme_names();
+
+// ---------------------------------------------------------------------------------------------------
+// Integration
+
+// One step as an observer sees it: q_{j-1} (virtual for j = 0), q_j, q_{j+1}, and the multiplier of the
+// step j -> j+1 (lambda_1 as in the paper, and the continuous-equivalent force multiplier).
+template <class T>
+struct FoucaultStep {
+  long j;
+  T t;  // t_j = j h
+  const Vec2<T>& qm;
+  const Vec2<T>& q;
+  const Vec2<T>& qn;
+  T lambda1, lambda;
+};
+
+// N steps of `Scheme` from (q0, v0): the observer is called for j = 0 .. N-1 with the step j -> j+1, so
+// it sees every q_j, j = 0..N. t_j = j h (never accumulated). No allocation happens here.
+template <class Scheme, class T, class Observer>
+void integrate_foucault(const FoucaultParams<T>& p, const Vec2<T>& q0, const Vec2<T>& v0, T h, long N,
+                        FoucaultStart start, Observer&& observe) {
+  using std::isfinite;
+  Vec2<T> qm = Scheme::previous_point(p, q0, v0, h, start);
+  Vec2<T> q = q0, qn;
+  T lambda1;
+  for (long j = 0; j < N; ++j) {
+    Scheme::step(p, qm, q, h, qn, lambda1, j);
+    if (!isfinite(qn(0)) || !isfinite(qn(1))) throw NumericalFailure(j + 1, "state", "non-finite q_{j+1}");
+    observe(FoucaultStep<T>{j, T(j) * h, qm, q, qn, lambda1, Scheme::lambda_force(lambda1, h)});
+    qm = q;
+    q = qn;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Diagnostics, kept only as dense as the figures need.
+
+struct FoucaultSample {
+  long j;
+  double t;          // t_j
+  double x, y;       // q_j
+  double energy;     // chord energy E_{j+1/2} (at t_j + h/2)
+  double lambda;     // continuous-equivalent multiplier of the step j -> j+1 (kg/s)
+  double residual;   // Phi_d(q_j, q_{j+1}) / discrete_constraint_scale
+  bool turning;      // q_j is a turning point (also in FoucaultDiagnostics::turns)
+};
+
+// A turning point: a local maximum of r_j = |q_j| (j = 0 counts when r_0 >= r_1).
+struct FoucaultTurn {
+  long j;
+  double t, x, y, r;
+  double energy;  // E_{j+1/2}
+  double angle;   // plane of oscillation, atan2(y, x) unwrapped modulo pi (continuous across turns), rad
+  double jump;    // angle - previous angle, rad (NaN for the first)
+};
+
+struct FoucaultSummary {
+  double E0 = 0;                 // continuous energy of the consistent initial state
+  double E_final = 0;            // E_{N-1/2}
+  double t_final = 0;            // T - h/2
+  double max_residual = 0;       // max_j |Phi_d| / scale (round-off units of eps at most a few)
+  double max_abs_residual = 0;   // max_j |Phi_d|, m^2/s
+  double max_abs_lambda = 0;     // max_j |lambda| (continuous-equivalent), kg/s
+  double min_r = 0;              // min_j |q_j|, j = 0..N
+  double t_min_r = 0;
+  // min_j |q_j| / |q_{j+1} - q_j|: how close a step lands to the origin, in units of the step. Near the
+  // origin the discrete constraint makes q_{j+1} - q_j nearly parallel to q_j, so a step landing at this
+  // ratio rho turns the plane of oscillation by about s h / rho (the "anomaly" when rho is small).
+  double min_pass_ratio = std::numeric_limits<double>::infinity();
+  double t_min_pass_ratio = 0;
+  double max_jump = 0;           // max_k |angle_k - angle_{k-1}|, rad
+  double t_max_jump = 0;
+  // Largest loss of energy between successive turning points beyond the exact factor e^{-alpha dt}
+  // (at extrema of a damped linear oscillator the energy ratio is exactly e^{-alpha dt}).
+  double max_energy_loss = 0;
+  double t_max_energy_loss = 0;
+  double rate = std::numeric_limits<double>::quiet_NaN();  // least-squares d(angle)/dt, rad/s
+  int rate_points = 0;
+  long turns = 0;
+};
+
+// Least-squares slope of angle against t over the turning points (GSL); NaN with fewer than 3.
+double fit_precession_rate(const std::vector<FoucaultTurn>& turns, int* points = nullptr);
+
+template <class T>
+class FoucaultDiagnostics {
+ public:
+  // sample_every: keep every k-th step (plus every turning point and the last step).
+  FoucaultDiagnostics(const FoucaultParams<T>& p, T h, long N, long sample_every, const Vec2<T>& q0,
+                      const Vec2<T>& v0)
+      : p_(p), h_(h), N_(N), every_(sample_every) {
+    require(sample_every >= 1, "sample_every must be a positive integer");
+    summary_.E0 = static_cast<double>(foucault_energy(p, q0, consistent_velocity(p, q0, v0)));
+    summary_.min_r = static_cast<double>(q0.norm());
+    // Reserve once: turning points come twice per period 2 pi / sqrt(w2 - s^2); doubled for safety.
+    const double period = 2 * foucault_pi / std::sqrt(std::abs(static_cast<double>(p.w2 - p.s * p.s)));
+    const auto turns_est = static_cast<std::size_t>(4 * N * static_cast<double>(h) / period) + 16;
+    turns.reserve(turns_est);
+    samples.reserve(static_cast<std::size_t>(N / sample_every) + 2 + turns_est);
+  }
+
+  void operator()(const FoucaultStep<T>& st) {
+    using std::abs;
+    const T r = st.q.norm(), rn = st.qn.norm();
+    const double t = static_cast<double>(st.t);
+    const T E = chord_energy(p_, st.q, st.qn, h_);
+    const T phid = discrete_constraint(p_, st.q, st.qn, h_);
+    const T scale = discrete_constraint_scale(st.q, st.qn, h_);
+    const double res = static_cast<double>(scale > 0 ? abs(phid) / scale : abs(phid));
+    auto& S = summary_;
+    S.max_residual = std::max(S.max_residual, res);
+    S.max_abs_residual = std::max(S.max_abs_residual, static_cast<double>(abs(phid)));
+    S.max_abs_lambda = std::max(S.max_abs_lambda, static_cast<double>(abs(st.lambda)));
+    if (static_cast<double>(rn) < S.min_r) {
+      S.min_r = static_cast<double>(rn);
+      S.t_min_r = static_cast<double>(T(st.j + 1) * h_);
+    }
+    const T step_len = (st.qn - st.q).norm();
+    if (step_len > 0 && static_cast<double>(r / step_len) < S.min_pass_ratio) {
+      S.min_pass_ratio = static_cast<double>(r / step_len);
+      S.t_min_pass_ratio = t;
+    }
+    const bool turning = st.j == 0 ? r >= rn : (r > st.qm.norm() && r >= rn);
+    if (turning) add_turn(st, t, static_cast<double>(r), static_cast<double>(E));
+    if (turning || st.j % every_ == 0 || st.j == N_ - 1)
+      samples.push_back({st.j, t, static_cast<double>(st.q(0)), static_cast<double>(st.q(1)), static_cast<double>(E),
+                         static_cast<double>(st.lambda), res, turning});
+    if (st.j == N_ - 1) {
+      S.E_final = static_cast<double>(E);
+      S.t_final = static_cast<double>(st.t + h_ / 2);
+    }
+  }
+
+  // Completes the summary (precession fit) after the run.
+  FoucaultSummary summary() const {
+    FoucaultSummary s = summary_;
+    s.rate = fit_precession_rate(turns, &s.rate_points);
+    s.turns = static_cast<long>(turns.size());
+    return s;
+  }
+
+  std::vector<FoucaultSample> samples;
+  std::vector<FoucaultTurn> turns;
+
+ private:
+  void add_turn(const FoucaultStep<T>& st, double t, double r, double E) {
+    const double x = static_cast<double>(st.q(0)), y = static_cast<double>(st.q(1));
+    double a = std::atan2(y, x), jump = std::nan("");
+    if (!turns.empty()) {
+      // The plane is a line: its angle is defined modulo pi. Pick the representative nearest the last.
+      const double prev = turns.back().angle;
+      a += foucault_pi * std::round((prev - a) / foucault_pi);
+      jump = a - prev;
+      auto& S = summary_;
+      if (std::abs(jump) > S.max_jump) {
+        S.max_jump = std::abs(jump);
+        S.t_max_jump = t;
+      }
+      const double dt = t - turns.back().t;
+      const double loss = 1 - E / turns.back().energy * std::exp(static_cast<double>(p_.alpha) * dt);
+      if (loss > S.max_energy_loss) {
+        S.max_energy_loss = loss;
+        S.t_max_energy_loss = t;
+      }
+    }
+    turns.push_back({st.j, t, x, y, r, E, a, jump});
+  }
+
+  FoucaultParams<T> p_;
+  T h_;
+  long N_, every_;
+  FoucaultSummary summary_;
+};
+
+// A run as the programs use it: scheme by name, double precision, decimated diagnostics.
+struct FoucaultRun {
+  std::vector<FoucaultSample> samples;
+  std::vector<FoucaultTurn> turns;
+  FoucaultSummary summary;
+};
+// Runs N = T/h steps (step_count refuses h that does not divide T). Throws InputError for bad input and
+// NumericalFailure (with the step index) when a step cannot be solved.
+FoucaultRun run_foucault(const std::string& scheme, const FoucaultScene& scene, double h, FoucaultStart start,
+                         long sample_every);
+
+// ---------------------------------------------------------------------------------------------------
+// Continuous solution
+
+// Closed form from (13). In the frame rotating with the plane, rho = R(s t) q (R: rotation), the
+// Lagrange–d'Alembert equations below become rho'' = -(w2 - s^2) rho - alpha rho' (each component a
+// damped linear oscillator), and q = R(-s t) rho, q' = R(-s t)(rho' - s J rho), J = rotation by +90 deg.
+// Derivation: on (13), r' e_perp = J q' - s q (with q = r e), so the constraint force of the ODE below,
+// lambda/m (y, -x), equals -alpha s J q - 2 s J q' + 2 s^2 q; substituting q = R(-s t) rho, the Coriolis
+// and centrifugal terms of the rotating frame cancel these exactly. For consistent data rho' is parallel
+// to rho (rho x rho' = Phi = 0), so the bob moves on a line through the origin that turns at the
+// constant rate -s: the plane angle is theta(t) = theta0 - s t, and the signed radius obeys
+// r'' = -(w2 - s^2) r - alpha r'.
+template <class T>
+struct FoucaultState {
+  Vec2<T> q, v;
+};
+
+template <class T>
+FoucaultState<T> foucault_exact(const FoucaultParams<T>& p, const Vec2<T>& q0, const Vec2<T>& v0_consistent, T t) {
+  using std::cos;
+  using std::sin;
+  const Vec2<T> rho_dot0 = v0_consistent + p.s * constraint_covector(q0);  // v0 + s J q0
+  const T b = p.w2 - p.s * p.s;
+  const auto cx = linear_oscillator_solution<T>(p.alpha, b, q0(0), rho_dot0(0), t);
+  const auto cy = linear_oscillator_solution<T>(p.alpha, b, q0(1), rho_dot0(1), t);
+  const Vec2<T> rho(cx.q, cy.q), rho_dot(cx.v, cy.v);
+  const T c = cos(p.s * t), sn = sin(p.s * t);  // R(-s t) = [[c, sn], [-sn, c]]
+  auto rot = [&](const Vec2<T>& u) { return Vec2<T>(c * u(0) + sn * u(1), -sn * u(0) + c * u(1)); };
+  return {rot(rho), rot(rho_dot - p.s * constraint_covector(rho))};
+}
+
+// The Lagrange–d'Alembert equations with a multiplier, made an ODE by differentiating (13):
+//   x'' = -w2 x - alpha x' + lambda y/m,   y'' = -w2 y - alpha y' - lambda x/m,
+//   lambda = m [alpha (y x' - x y') + 2 s (x x' + y y')] / (x^2 + y^2)
+// (from -y x'' + x y'' + 2 s (x x' + y y') = 0), integrated with Boost.Odeint (dense-output dopri5)
+// at tolerance `tol` from (q0, consistent_velocity(q0, v0)). Returns (x, y, x', y') at every time.
+// The multiplier is singular at the origin but the force lambda (y, -x)/m stays bounded; at r = 0
+// exactly (never met in practice) the equivalent on-constraint form -alpha s J q - 2 s J q' + 2 s^2 q is used.
+std::vector<std::array<double, 4>> foucault_reference(const FoucaultScene& scene, const std::vector<double>& times,
+                                                      double tol = 1e-12);
+
+}  // namespace geomint

@@ -1,0 +1,106 @@
+#include "geomint/foucault.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <gsl/gsl_fit.h>
+
+#include "geomint/reference.hpp"
+
+namespace geomint {
+
+void FoucaultScene::validate() const {
+  require_positive(m, "m");
+  require_positive(l, "l");
+  require_positive(g, "g");
+  require(std::isfinite(beta_deg) && std::abs(beta_deg) <= 90,
+          "beta must be a latitude in [-90, 90] degrees, got " + std::to_string(beta_deg));
+  require_finite(Omega, "Omega");
+  require_nonnegative(alpha, "alpha");
+  require_finite(x0, "x0");
+  require_finite(y0, "y0");
+  require_finite(vx0, "vx0");
+  require_finite(vy0, "vy0");
+  require(x0 * x0 + y0 * y0 > 0, "q0 must not be the origin: the constraint (13) gives no equation for lambda there");
+  require_positive(T, "T");
+}
+
+double FoucaultScene::s() const { return Omega * std::sin(beta_deg * foucault_pi / 180); }
+
+FoucaultStart parse_foucault_start(const std::string& name) {
+  if (name == "legendre") return FoucaultStart::legendre;
+  if (name == "taylor") return FoucaultStart::taylor;
+  throw InputError("unknown start '" + name + "' (known: legendre taylor)");
+}
+
+const char* to_string(FoucaultStart s) { return s == FoucaultStart::legendre ? "legendre" : "taylor"; }
+
+const std::vector<std::string>& foucault_scheme_names() {
+  static const std::vector<std::string> names{schemes::LaNh::name, schemes::ContactNh::name};
+  return names;
+}
+
+double fit_precession_rate(const std::vector<FoucaultTurn>& turns, int* points) {
+  std::vector<double> t, a;
+  for (const auto& k : turns)
+    if (std::isfinite(k.angle)) {
+      t.push_back(k.t);
+      a.push_back(k.angle);
+    }
+  if (points) *points = static_cast<int>(t.size());
+  if (t.size() < 3) return std::nan("");
+  double c0, c1, cov00, cov01, cov11, sumsq;
+  gsl_fit_linear(t.data(), 1, a.data(), 1, t.size(), &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
+  return c1;
+}
+
+FoucaultRun run_foucault(const std::string& scheme, const FoucaultScene& scene, double h, FoucaultStart start,
+                         long sample_every) {
+  scene.validate();
+  const long N = step_count(h, scene.T);
+  require(sample_every >= 1, "sample_every must be a positive integer");
+  return visit_foucault_scheme(scheme, [&](auto s) {
+    using Scheme = decltype(s);
+    const FoucaultParams<double> p(scene);
+    const Vec2<double> q0(scene.x0, scene.y0), v0(scene.vx0, scene.vy0);
+    FoucaultDiagnostics<double> diag(p, h, N, sample_every, q0, v0);
+    integrate_foucault<Scheme>(p, q0, v0, h, N, start, diag);
+    FoucaultRun run;
+    run.summary = diag.summary();
+    run.samples = std::move(diag.samples);
+    run.turns = std::move(diag.turns);
+    return run;
+  });
+}
+
+std::vector<std::array<double, 4>> foucault_reference(const FoucaultScene& scene, const std::vector<double>& times,
+                                                      double tol) {
+  scene.validate();
+  require_positive(tol, "tol");
+  const FoucaultParams<double> p(scene);
+  const Vec2<double> q0(scene.x0, scene.y0);
+  const Vec2<double> v0 = consistent_velocity(p, q0, Vec2<double>(scene.vx0, scene.vy0));
+  const double w2 = p.w2, s = p.s, a = p.alpha;
+  using State = std::array<double, 4>;
+  return odeint_dense<4>(
+      [=](const State& u, State& du, double) {
+        const double x = u[0], y = u[1], vx = u[2], vy = u[3];
+        const double r2 = x * x + y * y;
+        double fx, fy;  // constraint force per unit mass, lambda (y, -x)/m
+        if (r2 > 0) {
+          const double lm = (a * (y * vx - x * vy) + 2 * s * (x * vx + y * vy)) / r2;  // lambda/m
+          fx = lm * y;
+          fy = -lm * x;
+        } else {  // -alpha s J q - 2 s J q' + 2 s^2 q at q = 0
+          fx = 2 * s * vy;
+          fy = -2 * s * vx;
+        }
+        du[0] = vx;
+        du[1] = vy;
+        du[2] = -w2 * x - a * vx + fx;
+        du[3] = -w2 * y - a * vy + fy;
+      },
+      State{q0(0), q0(1), v0(0), v0(1)}, times, tol);
+}
+
+}  // namespace geomint

@@ -1,0 +1,237 @@
+// Figure 2 of the paper: the damped Foucault pendulum (Section 3.2) integrated by the LA nonholonomic
+// integrator (15) and the contact nonholonomic integrator (18): energy against time (top row) and the
+// bob's trajectory (bottom row), one column per alpha; plus a companion figure per further h (the paper
+// says the LA anomaly disappears at h/20 = 0.005) and, per h, the plane of oscillation against its exact
+// angle theta0 - Omega sin(beta) t at every turning point.
+//   fig2_foucault [--h 0.1 0.005] [--alpha 1e-3 1e-4] [--T 3600] [--start legendre] [--sample-dt 2] [--out out]
+// For the first h writes out/fig2_foucault.tsv (decimated samples: every sample-dt seconds and every
+// turning point, plus closed-form reference rows), out/fig2_foucault_summary.tsv (one row per scheme and
+// alpha), out/fig2_foucault.{png,pdf} and out/fig2_foucault_plane.{png,pdf}, all drawn from the TSV;
+// each further h writes the same set under fig2_foucault_h<h>.
+// Energy is the chord energy E_{j+1/2} = m/2 |(q_{j+1}-q_j)/h|^2 + m w2/2 |(q_j+q_{j+1})/2|^2 at t_j + h/2.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/foucault.hpp"
+#include "geomint/io.hpp"
+#include "geomint/plots/figure.hpp"
+
+using namespace geomint;
+
+namespace {
+
+constexpr double deg = 180 / foucault_pi;
+
+std::string trajectory_style(const std::string& scheme) {
+  std::string st = plots::style_for(scheme, "lines");
+  const auto k = st.find("lw 1.5");
+  if (k != std::string::npos) st.replace(k, 6, "lw 0.6");
+  return st;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return guarded_main("fig2_foucault", [&] {
+    FoucaultScene base;
+    std::vector<double> hs{0.1, 0.005}, alphas{1e-3, 1e-4};
+    std::vector<std::string> names{"la-nh", "contact-nh"};
+    std::string start_name = "legendre";
+    double sample_dt = 2;
+    Cli cli("fig2_foucault", "Figure 2: damped Foucault pendulum, LA vs contact nonholonomic integrators");
+    cli.options.add_options()("h", po::value(&hs)->multitoken()->default_value(hs, "0.1 0.005"),
+                              "step sizes (the first is Figure 2, each further one a companion figure)")(
+        "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "1e-3 1e-4"), "damping values")(
+        "T", po::value(&base.T)->default_value(base.T), "horizon, s")(
+        "start", po::value(&start_name)->default_value(start_name), "starting procedure: legendre or taylor")(
+        "schemes", po::value(&names)->multitoken()->default_value(names, "la-nh contact-nh"), "schemes")(
+        "sample-dt", po::value(&sample_dt)->default_value(sample_dt),
+        "keep a sample every sample-dt seconds (plus every turning point)")(
+        "m", po::value(&base.m)->default_value(base.m), "mass, kg")(
+        "l", po::value(&base.l)->default_value(base.l), "length, m")(
+        "g", po::value(&base.g)->default_value(base.g), "gravity, m/s^2")(
+        "beta", po::value(&base.beta_deg)->default_value(base.beta_deg), "latitude, degrees")(
+        "Omega", po::value(&base.Omega)->default_value(base.Omega), "Earth's angular velocity, rad/s")(
+        "x0", po::value(&base.x0)->default_value(base.x0), "initial x, m")(
+        "y0", po::value(&base.y0)->default_value(base.y0), "initial y, m")(
+        "vx0", po::value(&base.vx0)->default_value(base.vx0), "initial x', m/s")(
+        "vy0", po::value(&base.vy0)->default_value(base.vy0), "initial y', m/s");
+    if (!cli.parse(argc, argv)) return 0;
+
+    // Validate everything before writing anything.
+    require(!hs.empty(), "give at least one h");
+    require(!alphas.empty(), "give at least one alpha");
+    for (double h : hs) step_count(h, base.T);
+    for (double a : alphas) {
+      FoucaultScene sc = base;
+      sc.alpha = a;
+      sc.validate();
+    }
+    base.validate();
+    const FoucaultStart start = parse_foucault_start(start_name);
+    for (const auto& n : names) visit_foucault_scheme(n, [](auto) {});
+    require_positive(sample_dt, "sample-dt");
+    const auto dir = prepare_output_dir(cli.out);
+
+    const double s = base.s();
+    for (std::size_t ih = 0; ih < hs.size(); ++ih) {
+      const double h = hs[ih];
+      const long N = step_count(h, base.T);
+      const long every = std::max(1L, std::lround(sample_dt / h));
+      const std::string stem = ih == 0 ? "fig2_foucault" : "fig2_foucault_h" + format_number(h);
+      const Params params{{"h", format_number(h)},
+                          {"T", format_number(base.T)},
+                          {"alpha", format_list(alphas)},
+                          {"m", format_number(base.m)},
+                          {"l", format_number(base.l)},
+                          {"g", format_number(base.g)},
+                          {"beta_deg", format_number(base.beta_deg)},
+                          {"Omega", format_number(base.Omega)},
+                          {"q0", format_number(base.x0) + "," + format_number(base.y0)},
+                          {"v0", format_number(base.vx0) + "," + format_number(base.vy0)},
+                          {"start", start_name},
+                          {"sample_every_steps", std::to_string(every)},
+                          {"energy", "chord energy at t_j + h/2: m/2|(q_{j+1}-q_j)/h|^2 + m w2/2|(q_j+q_{j+1})/2|^2"},
+                          {"angle", "plane angle atan2(y,x) at turning points (local maxima of |q|), unwrapped mod pi"},
+                          {"reference", "closed form: q = R(-s t) rho, rho'' = -(w2-s^2) rho - alpha rho'"}};
+      TsvWriter tsv(dir / (stem + ".tsv"), "fig2_foucault", params,
+                    {"scheme", "alpha", "h", "kind", "j", "t", "x", "y", "t_energy", "energy", "lambda",
+                     "residual", "angle", "jump"});
+      TsvWriter sum(dir / (stem + "_summary.tsv"), "fig2_foucault", params,
+                    {"scheme", "alpha", "h", "steps", "status", "E0", "E_final_over_E0", "t_final",
+                     "exp_minus_alpha_t", "E_exact_final_over_E0", "max_residual_scaled", "max_abs_residual",
+                     "max_abs_lambda", "min_r", "t_min_r", "min_pass_ratio", "t_min_pass_ratio", "turns", "max_jump_deg", "t_max_jump",
+                     "max_energy_loss", "t_max_energy_loss", "rate", "rate_over_minus_s"});
+      std::printf("h = %g (%ld steps), start %s, -Omega sin(beta) = %.6e rad/s\n", h, N, start_name.c_str(), -s);
+      std::printf("%-10s %-7s %9s %9s %9s %9s %9s %18s %18s %18s %9s\n", "scheme", "alpha", "E(T)/E0", "e^-aT",
+                  "Eex(T)/E0", "max|Phid|", "min r", "closest pass @t", "max jump deg @t", "max E loss @t",
+                  "rate/-s");
+      for (double a : alphas) {
+        FoucaultScene sc = base;
+        sc.alpha = a;
+        const FoucaultParams<double> p(sc);
+        const Vec2<double> q0(sc.x0, sc.y0);
+        const Vec2<double> v0c = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
+        const double E0 = foucault_energy(p, q0, v0c);
+        // Closed-form reference rows at the sample times (energy at t_j + h/2, like the schemes).
+        for (long j = 0; j < N; j += every) {
+          const double t = static_cast<double>(j) * h;
+          const auto xq = foucault_exact(p, q0, v0c, t);
+          const auto xe = foucault_exact(p, q0, v0c, t + h / 2);
+          tsv.row("reference", a, h, "sample", j, t, xq.q(0), xq.q(1), t + h / 2, foucault_energy(p, xe.q, xe.v),
+                  std::nan(""), std::nan(""), std::nan(""), std::nan(""));
+        }
+        const double t_fin = base.T - h / 2;
+        const auto xf = foucault_exact(p, q0, v0c, t_fin);
+        const double Eex = foucault_energy(p, xf.q, xf.v) / E0;
+        for (const auto& n : names) {
+          FoucaultRun run;
+          std::string status = "ok";
+          try {
+            run = run_foucault(n, sc, h, start, every);
+          } catch (const NumericalFailure& e) {
+            status = e.what();  // a failed run is data: recorded, the sweep goes on
+          }
+          std::map<long, const FoucaultTurn*> turn_at;
+          for (const auto& k : run.turns) turn_at[k.j] = &k;
+          for (const auto& smp : run.samples) {
+            const auto it = smp.turning ? turn_at.find(smp.j) : turn_at.end();
+            const bool tp = it != turn_at.end();
+            tsv.row(n, a, h, tp ? "turn" : "sample", smp.j, smp.t, smp.x, smp.y, smp.t + h / 2, smp.energy,
+                    smp.lambda, smp.residual, tp ? it->second->angle : std::nan(""),
+                    tp ? it->second->jump : std::nan(""));
+          }
+          const auto& S = run.summary;
+          const bool ok = status == "ok";
+          const double nan = std::nan("");
+          sum.row(n, a, h, N, status, ok ? S.E0 : nan, ok ? S.E_final / S.E0 : nan, ok ? S.t_final : nan,
+                  std::exp(-a * t_fin), Eex, ok ? S.max_residual : nan, ok ? S.max_abs_residual : nan,
+                  ok ? S.max_abs_lambda : nan, ok ? S.min_r : nan, ok ? S.t_min_r : nan, ok ? S.min_pass_ratio : nan,
+                  ok ? S.t_min_pass_ratio : nan, S.turns,
+                  ok ? S.max_jump * deg : nan, ok ? S.t_max_jump : nan, ok ? S.max_energy_loss : nan,
+                  ok ? S.t_max_energy_loss : nan, ok ? S.rate : nan, ok ? S.rate / -s : nan);
+          if (!ok) {
+            std::printf("%-10s %-7g failed: %s\n", n.c_str(), a, status.c_str());
+            continue;
+          }
+          std::printf("%-10s %-7g %9.5f %9.5f %9.5f %9.2e %9.2e %8.2e @%7.1f %8.4f @%7.1f %8.2e @%7.1f %9.5f\n",
+                      n.c_str(), a, S.E_final / S.E0, std::exp(-a * t_fin), Eex, S.max_residual, S.min_r,
+                      S.min_pass_ratio, S.t_min_pass_ratio, S.max_jump * deg, S.t_max_jump, S.max_energy_loss,
+                      S.t_max_energy_loss, S.rate / -s);
+        }
+      }
+      std::printf("\n");
+      tsv.commit();
+      sum.commit();
+
+      // Figures, from the saved file.
+      const auto t = plots::read_tsv(dir / (stem + ".tsv"));
+      const std::string where = "h = " + format_number(h) + ", T = " + format_number(base.T) + " s, q_0 = (" +
+                                format_number(base.x0) + ", " + format_number(base.y0) + "), start " + start_name;
+      plots::Figure fig;
+      fig.title = "Foucault pendulum, " + where;
+      fig.rows = 2;
+      fig.cols = static_cast<int>(alphas.size());
+      fig.width_in = 4.6 * fig.cols;
+      fig.height_in = 7.5;
+      std::vector<std::string> all_names = names;
+      all_names.push_back("reference");
+      for (int row = 0; row < 2; ++row)
+        for (double a : alphas) {
+          plots::Panel p;
+          if (row == 0)
+            p.setup = "set xlabel 't (s)'\nset ylabel 'energy (J)'\nset key top right\nset title 'energy, alpha = " +
+                      format_number(a) + "'\n";
+          else
+            // Axes autoscaled, not equal: the fan spans only ~11 degrees in an hour.
+            p.setup = "set xlabel 'x (m)'\nset ylabel 'y (m)'\nset key top right\n"
+                      "set title 'bob trajectory, alpha = " + format_number(a) + "'\n";
+          for (const auto& n : all_names) {
+            if (row == 1 && n == "reference") continue;
+            auto keep = [&](size_t i) { return t.text(i, "scheme") == n && t.number(i, "alpha") == a; };
+            if (row == 0)
+              p.series.push_back({t.numbers("t_energy", keep), t.numbers("energy", keep),
+                                  n == "reference" ? "exact (closed form)" : n, plots::style_for(n)});
+            else
+              p.series.push_back({t.numbers("x", keep), t.numbers("y", keep), n, trajectory_style(n)});
+          }
+          fig.panels.push_back(std::move(p));
+        }
+      fig.draw(dir / stem);
+
+      // The plane of oscillation at the turning points against the exact theta0 - s t.
+      plots::Figure plane;
+      plane.title = "Plane of oscillation minus its exact angle (theta_0 - Omega sin(beta) t), " + where;
+      plane.cols = static_cast<int>(alphas.size());
+      plane.width_in = 4.6 * plane.cols;
+      plane.height_in = 4;
+      const double theta0 = std::atan2(base.y0, base.x0);
+      for (double a : alphas) {
+        plots::Panel p;
+        p.setup = "set xlabel 't (s)'\nset ylabel 'plane angle error (deg)'\nset key top left\nset title 'alpha = " +
+                  format_number(a) + "'\n";
+        for (const auto& n : names) {
+          auto keep = [&](size_t i) {
+            return t.text(i, "scheme") == n && t.number(i, "alpha") == a && t.text(i, "kind") == "turn";
+          };
+          const auto tt = t.numbers("t", keep);
+          auto ang = t.numbers("angle", keep);
+          for (size_t i = 0; i < ang.size(); ++i) {
+            // the exact angle, taken modulo pi nearest the measured one
+            const double ex = theta0 - s * tt[i];
+            const double d = ang[i] - ex;
+            ang[i] = (d - foucault_pi * std::round(d / foucault_pi)) * deg;
+          }
+          p.series.push_back({tt, ang, n, plots::style_for(n, "linespoints pt 7 ps 0.3")});
+        }
+        plane.panels.push_back(std::move(p));
+      }
+      plane.draw(dir / (stem + "_plane"));
+    }
+    return 0;
+  });
+}
