@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <map>
 
+#include <Eigen/LU>
 #include <boost/numeric/odeint.hpp>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
@@ -16,6 +17,7 @@
 #include "geomint/cli.hpp"
 #include "geomint/ensemble.hpp"
 #include "geomint/error.hpp"
+#include "geomint/foucault.hpp"
 #include "geomint/fp_env.hpp"
 #include "geomint/integrate.hpp"
 #include "geomint/io.hpp"
@@ -155,6 +157,53 @@ int main(int argc, char** argv) {
     gsl_run(&steps_gsl);
     add("oscillator", "GSL rk8pd (tol 1e-10)", static_cast<double>(steps_gsl), [&] { gsl_run(nullptr); });
 
+    // Foucault pendulum (15): the library loop, a bare closed-form loop, and the literal 3x3 system
+    // solved by Eigen's PartialPivLU (what a generic implementation would do).
+    {
+      FoucaultScene sc;
+      sc.alpha = 1e-4;
+      const FoucaultParams<double> fp(sc);
+      const double hp = 0.1;
+      const long Np = std::max(1000L, N / 10);
+      const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
+      std::printf("\nFoucault pendulum (15), h = %g, alpha = %g, %ld steps per run\n", hp, sc.alpha, Np);
+      add("pendulum", "geomint la-nh", Np, [&] {
+        double acc = 0;
+        integrate_foucault<schemes::LaNh>(fp, q0, v0, hp, Np, FoucaultStart::legendre,
+                                          [&](const FoucaultStep<double>& st) { acc += st.lambda1; });
+        do_not_optimize(acc);
+      });
+      const Vec2<double> qm0 = schemes::LaNh::previous_point(fp, q0, v0, hp, FoucaultStart::legendre);
+      add("pendulum", "bare la-nh closed form", Np, [&] {
+        const double c = 1 / hp + fp.alpha, ic = 1 / c, ih = 1 / hp, w2 = fp.w2, s = fp.s;
+        double xm = qm0(0), ym = qm0(1), x = q0(0), y = q0(1), acc = 0;
+        for (long j = 0; j < Np; ++j) {
+          const double r2 = x * x + y * y;
+          const double lm = c * s * hp + (xm * y - ym * x) / (hp * r2);
+          const double xn = x + ((x - xm) * ih - hp * w2 * x + lm * y) * ic;
+          const double yn = y + ((y - ym) * ih - hp * w2 * y - lm * x) * ic;
+          acc += lm;
+          xm = x; ym = y; x = xn; y = yn;
+        }
+        do_not_optimize(acc);
+        do_not_optimize(x);
+      });
+      add("pendulum", "la-nh via PartialPivLU 3x3", Np, [&] {
+        Vec2<double> qm = qm0, q = q0, qn;
+        double acc = 0;
+        for (long j = 0; j < Np; ++j) {
+          const auto ls = schemes::LaNh::system(fp, qm, q, hp);
+          const Eigen::Vector3d sol = Eigen::PartialPivLU<Eigen::Matrix3d>(ls.A).solve(ls.b);
+          qn = sol.head<2>();
+          acc += sol(2);
+          qm = q;
+          q = qn;
+        }
+        do_not_optimize(acc);
+        do_not_optimize(q(0));
+      });
+    }
+
     // Subnormals: alpha = 1 over t in [0, 1e5] decays below DBL_MIN at t ~ 1400 and stays subnormal.
     const double hs = 0.01;
     const long Ns = static_cast<long>(1e5 / hs);
@@ -196,6 +245,8 @@ int main(int argc, char** argv) {
     const std::vector<Ratio> ratios = {
         {"geomint la / bare la", ns["geomint la"] / ns["bare la"], 1.2, true},
         {"geomint contact / bare contact", ns["geomint contact"] / ns["bare contact"], 1.2, true},
+        {"geomint la-nh / bare closed form", ns["geomint la-nh"] / ns["bare la-nh closed form"], 1.5, true},
+        {"PartialPivLU / geomint la-nh", ns["la-nh via PartialPivLU 3x3"] / ns["geomint la-nh"], 4, false},
         {"contact plain / flush-to-zero (alpha=1, 1e5)", ns["contact, plain"] / ns["contact, flush-to-zero"], 0, false},
         {"la plain / flush-to-zero (alpha=1, 1e5)", ns["la, plain"] / ns["la, flush-to-zero"], 0, false},
         {"ensemble 1 thread / 2 threads", ns["contact ensemble, 1 thread(s)"] / ns["contact ensemble, 2 thread(s)"], 0,
