@@ -121,7 +121,9 @@ void render(const Figure& fig, const std::string& terminal, const std::filesyste
         cmd += (first ? "" : ", ") + p.extra_plots;
         first = false;
       }
-      if (first) cmd += "NaN notitle";
+      if (first)  // every point failed: say so in an empty panel (gnuplot refuses to plot nothing)
+        cmd = "unset logscale\nset xrange [0:1]\nset yrange [0:1]\nunset xtics\nunset ytics\n"
+              "set label 'no data: every run in this panel failed' at graph 0.5, 0.5 center\nplot -1 notitle";
       gp << cmd << "\n";
       for (const auto& s : p.series) {
         if (s.x.empty()) continue;

@@ -1,0 +1,45 @@
+// Numerical failure is data: a run that blows up stops with the step index and the quantity; inside a
+// sweep it becomes a missing value (NaN in the TSV, no point in the figure), never a crash.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <sstream>
+
+#include "geomint/error.hpp"
+#include "geomint/integrate.hpp"
+#include "geomint/oscillator_schemes.hpp"
+#include "helpers.hpp"
+
+using namespace geomint;
+
+TEST_CASE("an unstable run reports the step where the state stopped being finite", "[failure]") {
+  // contact at h = 2.5 > 2 is unstable (see the stability maps): |q| grows ~2^j until it overflows
+  OscState<double> s{-0.25, 0.75, 0};
+  long last_finite = -1;
+  try {
+    integrate_const<schemes::Contact>(s, 2.5, 100000L, 0.01, [&](long j, const OscState<double>&) { last_finite = j; });
+    FAIL("no failure reported");
+  } catch (const NumericalFailure& e) {
+    CHECK(e.step == last_finite + 1);
+    CHECK(e.step > 100);  // it takes hundreds of steps to overflow from O(1)
+    CHECK(e.quantity == "state");
+    CHECK(std::string(e.what()).find("step " + std::to_string(e.step)) != std::string::npos);
+  }
+}
+
+TEST_CASE("a sweep records a blown-up run as a missing value and still completes", "[failure]") {
+  const auto dir = testing::fresh_dir("failure-sweep");
+  // h = 2.5 over T = 5000 (2000 steps): contact is unstable beyond h = 2 and la beyond
+  // h = alpha + sqrt(alpha^2 + 4) ~ 2.01, so both overflow before the end.
+  const auto r = testing::run_program(
+      "convergence_oscillator", "--h-max 2.5 --h-min 2.5 --T 5000 --alpha 0.01 --schemes contact la --out " + dir.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  std::ifstream in(dir / "convergence_oscillator.tsv");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string tsv = ss.str();
+  CHECK(tsv.find("contact\t0.01\t2.5\t2000\tnan") != std::string::npos);
+  CHECK(tsv.find("la\t0.01\t2.5\t2000\tnan") != std::string::npos);
+  CHECK(std::filesystem::exists(dir / "convergence_oscillator.png"));
+}
