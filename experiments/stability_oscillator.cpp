@@ -21,14 +21,14 @@ int main(int argc, char** argv) {
   return guarded_main("stability_oscillator", [&] {
     int n = 90;
     double h_min = 1e-2, h_max = 10, a_min = 1e-3, a_max = 10;
-    std::vector<std::string> names{"la", "la-printed", "contact", "la-midpoint", "contact-sym", "leapfrog"};
+    std::vector<std::string> names{"la", "la-printed", "contact", "la-midpoint", "contact-sym", "leapfrog", "conformal-strang"};
     Cli cli("stability_oscillator", "stability and fidelity maps of the oscillator schemes over (h, alpha)");
     cli.options.add_options()("n", po::value(&n)->default_value(n), "grid points per axis (log-spaced)")(
         "h-min", po::value(&h_min)->default_value(h_min), "smallest h")("h-max", po::value(&h_max)->default_value(h_max),
                                                                           "largest h")(
         "alpha-min", po::value(&a_min)->default_value(a_min), "smallest alpha")(
         "alpha-max", po::value(&a_max)->default_value(a_max), "largest alpha")(
-        "schemes", po::value(&names)->multitoken()->default_value(names, "la la-printed contact la-midpoint contact-sym leapfrog"),
+        "schemes", po::value(&names)->multitoken()->default_value(names, "la la-printed contact la-midpoint contact-sym leapfrog conformal-strang"),
         "schemes");
     if (!cli.parse(argc, argv)) return 0;
     require(n >= 4 && n <= 1000, "n must be in [4, 1000]");
@@ -96,9 +96,9 @@ int main(int argc, char** argv) {
     for (const auto& mp : maps) {
       plots::Figure fig;
       fig.title = std::string("Oscillator schemes over (h, alpha): ") + mp.title;
-      fig.cols = 3;
-      fig.rows = static_cast<int>((names.size() + 2) / 3);
-      fig.width_in = 13;
+      fig.cols = 4;
+      fig.rows = static_cast<int>((names.size() + 3) / 4);
+      fig.width_in = 17;
       fig.height_in = 4.2 * fig.rows;
       for (const auto& s : names) {
         plots::Panel p;

@@ -5,6 +5,7 @@
 
 #include "geomint/integrate.hpp"
 #include "geomint/oscillator_schemes.hpp"
+#include "geomint/schemes/conformal_strang.hpp"
 
 namespace geomint {
 namespace {
@@ -41,7 +42,7 @@ double max_error(const OscillatorScene& sc, double h) {
 
 template <class S>
 OscillatorSchemeInfo entry(const char* description) {
-  return {S::name, S::order, description, &run<S>, &max_error<S>};
+  return {S::name, S::order, description, &run<S>, &max_error<S>, &one_step_matrix<S>};
 }
 
 }  // namespace
@@ -54,6 +55,7 @@ const std::vector<OscillatorSchemeInfo>& oscillator_schemes() {
       entry<schemes::Leapfrog>("implicit leapfrog, second order (the paper's reference at h/10)"),
       entry<schemes::LaMidpoint>("midpoint forced variational integrator, second order"),
       entry<schemes::ContactSymmetric>("symmetric (trapezoidal) contact integrator, second order"),
+      entry<schemes::ConformalStrang>("conformal symplectic Strang splitting (README example), second order"),
   };
   return all;
 }

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "geomint/error.hpp"
-#include "geomint/oscillator_schemes.hpp"
+#include "geomint/oscillator_registry.hpp"
 
 namespace geomint::modified {
 
@@ -36,14 +36,9 @@ Region classify_trace_det(double tr, double det, double alpha) {
 Region classify(const AllOrders& m, double alpha) { return classify_trace_det(m.tr, m.det, alpha); }
 
 AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha) {
-  using namespace schemes;
-  if (scheme == "la") return all_orders<La>(h, alpha);
-  if (scheme == "la-printed") return all_orders<LaPrinted>(h, alpha);
-  if (scheme == "contact") return all_orders<Contact>(h, alpha);
-  if (scheme == "leapfrog") return all_orders<Leapfrog>(h, alpha);
-  if (scheme == "la-midpoint") return all_orders<LaMidpoint>(h, alpha);
-  if (scheme == "contact-sym") return all_orders<ContactSymmetric>(h, alpha);
-  throw InputError("unknown scheme '" + scheme + "'");
+  long double M[2][2];
+  find_oscillator_scheme(scheme).one_step(h, alpha, M);
+  return all_orders_from_trace_det(M[0][0] + M[1][1], M[0][0] * M[1][1] - M[0][1] * M[1][0], h);
 }
 
 bool analytic_trace_det(const std::string& scheme, double h, double a, double& tr, double& det) {

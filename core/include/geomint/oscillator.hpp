@@ -65,4 +65,15 @@ LinearOscillatorSolution<T> oscillator_exact(T alpha, T q0, T p0, T t) {
   return linear_oscillator_solution<T>(alpha, T(1), q0, p0, t);
 }
 
+// One-step matrix of a linear oscillator Scheme on (q, p), by stepping the unit vectors (long double,
+// so the all-orders coefficients and stability maps computed from it keep their digits).
+template <class Scheme>
+void one_step_matrix(long double h, long double alpha, long double M[2][2]) {
+  OscState<long double> e1{1, 0, 0}, e2{0, 1, 0};
+  Scheme::step(e1, h, alpha);
+  Scheme::step(e2, h, alpha);
+  M[0][0] = e1.q; M[1][0] = e1.p;
+  M[0][1] = e2.q; M[1][1] = e2.p;
+}
+
 }  // namespace geomint

@@ -19,6 +19,8 @@ struct OscillatorSchemeInfo {
   OscillatorTrajectory (*run)(const OscillatorScene&, double h);
   // max_j |q_j - q(t_j)| against the closed-form solution, without storing the trajectory
   double (*max_error)(const OscillatorScene&, double h);
+  // the one-step matrix on (q, p): all-orders modified coefficients and stability maps use it
+  void (*one_step)(long double h, long double alpha, long double M[2][2]);
 };
 
 const std::vector<OscillatorSchemeInfo>& oscillator_schemes();

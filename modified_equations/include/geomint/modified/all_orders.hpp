@@ -24,16 +24,6 @@ struct AllOrders {
 // double would show as a deviation growing to 1e-9 over 32 000 steps.
 AllOrders all_orders_from_trace_det(long double tr, long double det, long double h);
 
-// One-step matrix of Scheme on (q, p), by stepping the unit vectors.
-template <class Scheme>
-void one_step_matrix(long double h, long double alpha, long double M[2][2]) {
-  OscState<long double> e1{1, 0, 0}, e2{0, 1, 0};
-  Scheme::step(e1, h, alpha);
-  Scheme::step(e2, h, alpha);
-  M[0][0] = e1.q; M[1][0] = e1.p;
-  M[0][1] = e2.q; M[1][1] = e2.p;
-}
-
 // max_j |q_j - q^(t_j)| where q^ solves q'' + a_h q' + b_h q = 0 through (t_0, q_0) and (t_1, q_1).
 // Round-off level when the recurrence samples that flow exactly.
 double all_orders_deviation(const AllOrders& m, const std::vector<double>& t, const std::vector<double>& q);

@@ -21,7 +21,7 @@ const char* region_name(Region r);
 
 Region classify(const AllOrders& m, double alpha);
 
-// The one-step map of a registered oscillator scheme by name (throws InputError when unknown).
+// The one-step map of any registered oscillator scheme by name (throws InputError when unknown).
 AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha);
 
 // Analytic trace and determinant of the one-step map, from the schemes' closed forms:
