@@ -3,7 +3,10 @@
 // bob's trajectory (bottom row), one column per alpha; plus a companion figure per further h (the paper
 // says the LA anomaly disappears at h/20 = 0.005) and, per h, the plane of oscillation against its exact
 // angle theta0 - Omega sin(beta) t at every turning point.
-//   fig2_foucault [--h 0.1 0.005] [--alpha 1e-3 1e-4] [--T 3600] [--start legendre] [--sample-dt 2] [--out out]
+//   fig2_foucault [--h 0.1 0.005] [--alpha 1e-3 1e-4] [--T 3600] [--start legendre] [--sample-dt 2]
+//                 [--constraint paper] [--out out]
+// --constraint rotation runs the remedy of foucault.hpp instead of the paper's third row of (15)/(18); its
+// files are named fig2_foucault_rotation* so they sit next to the paper's.
 // For the first h writes out/fig2_foucault.tsv (decimated samples: every sample-dt seconds and every
 // turning point, plus closed-form reference rows), out/fig2_foucault_summary.tsv (one row per scheme and
 // alpha), out/fig2_foucault.{png,pdf} and out/fig2_foucault_plane.{png,pdf}, all drawn from the TSV;
@@ -40,7 +43,7 @@ int main(int argc, char** argv) {
     FoucaultScene base;
     std::vector<double> hs{0.1, 0.005}, alphas{1e-3, 1e-4};
     std::vector<std::string> names{"la-nh", "contact-nh"};
-    std::string start_name = "legendre";
+    std::string start_name = "legendre", constraint_name = "paper";
     double sample_dt = 2;
     Cli cli("fig2_foucault", "Figure 2: damped Foucault pendulum, LA vs contact nonholonomic integrators");
     cli.options.add_options()("h", po::value(&hs)->multitoken()->default_value(hs, "0.1 0.005"),
@@ -48,6 +51,8 @@ int main(int argc, char** argv) {
         "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "1e-3 1e-4"), "damping values")(
         "T", po::value(&base.T)->default_value(base.T), "horizon, s")(
         "start", po::value(&start_name)->default_value(start_name), "starting procedure: legendre or taylor")(
+        "constraint", po::value(&constraint_name)->default_value(constraint_name),
+        "discretization of (13): paper (third row of (15)/(18)) or rotation (the remedy)")(
         "schemes", po::value(&names)->multitoken()->default_value(names, "la-nh contact-nh"), "schemes")(
         "sample-dt", po::value(&sample_dt)->default_value(sample_dt),
         "keep a sample every sample-dt seconds (plus every turning point)")(
@@ -73,6 +78,9 @@ int main(int argc, char** argv) {
     }
     base.validate();
     const FoucaultStart start = parse_foucault_start(start_name);
+    const FoucaultConstraint constraint = parse_foucault_constraint(constraint_name);
+    const std::string stem0 =
+        constraint == FoucaultConstraint::paper ? "fig2_foucault" : "fig2_foucault_" + constraint_name;
     for (const auto& n : names) visit_foucault_scheme(n, [](auto) {});
     require_positive(sample_dt, "sample-dt");
     const auto dir = prepare_output_dir(cli.out);
@@ -82,7 +90,7 @@ int main(int argc, char** argv) {
       const double h = hs[ih];
       const long N = step_count(h, base.T);
       const long every = std::max(1L, std::lround(sample_dt / h));
-      const std::string stem = ih == 0 ? "fig2_foucault" : "fig2_foucault_h" + format_number(h);
+      const std::string stem = ih == 0 ? stem0 : stem0 + "_h" + format_number(h);
       const Params params{{"h", format_number(h)},
                           {"T", format_number(base.T)},
                           {"alpha", format_list(alphas)},
@@ -94,6 +102,7 @@ int main(int argc, char** argv) {
                           {"q0", format_number(base.x0) + "," + format_number(base.y0)},
                           {"v0", format_number(base.vx0) + "," + format_number(base.vy0)},
                           {"start", start_name},
+                          {"constraint", constraint_name},
                           {"sample_every_steps", std::to_string(every)},
                           {"energy", "chord energy at t_j + h/2: m/2|(q_{j+1}-q_j)/h|^2 + m w2/2|(q_j+q_{j+1})/2|^2"},
                           {"angle", "plane angle atan2(y,x) at turning points (local maxima of |q|), unwrapped mod pi"},
@@ -106,7 +115,8 @@ int main(int argc, char** argv) {
                      "exp_minus_alpha_t", "E_exact_final_over_E0", "max_residual_scaled", "max_abs_residual",
                      "max_abs_lambda", "min_r", "t_min_r", "min_pass_ratio", "t_min_pass_ratio", "turns", "max_jump_deg", "t_max_jump",
                      "max_energy_loss", "t_max_energy_loss", "rate", "rate_over_minus_s"});
-      std::printf("h = %g (%ld steps), start %s, -Omega sin(beta) = %.6e rad/s\n", h, N, start_name.c_str(), -s);
+      std::printf("h = %g (%ld steps), start %s, constraint %s, -Omega sin(beta) = %.6e rad/s\n", h, N,
+                  start_name.c_str(), constraint_name.c_str(), -s);
       std::printf("%-10s %-7s %9s %9s %9s %9s %9s %18s %18s %18s %9s\n", "scheme", "alpha", "E(T)/E0", "e^-aT",
                   "Eex(T)/E0", "max|Phid|", "min r", "closest pass @t", "max jump deg @t", "max E loss @t",
                   "rate/-s");
@@ -132,7 +142,7 @@ int main(int argc, char** argv) {
           FoucaultRun run;
           std::string status = "ok";
           try {
-            run = run_foucault(n, sc, h, start, every);
+            run = run_foucault(n, sc, h, start, every, constraint);
           } catch (const NumericalFailure& e) {
             status = e.what();  // a failed run is data: recorded, the sweep goes on
           }
@@ -171,7 +181,8 @@ int main(int argc, char** argv) {
       // Figures, from the saved file.
       const auto t = plots::read_tsv(dir / (stem + ".tsv"));
       const std::string where = "h = " + format_number(h) + ", T = " + format_number(base.T) + " s, q_0 = (" +
-                                format_number(base.x0) + ", " + format_number(base.y0) + "), start " + start_name;
+                                format_number(base.x0) + ", " + format_number(base.y0) + "), start " + start_name +
+                                (constraint == FoucaultConstraint::paper ? "" : ", constraint " + constraint_name);
       plots::Figure fig;
       fig.title = "Foucault pendulum, " + where;
       fig.rows = 2;

@@ -35,6 +35,14 @@ FoucaultStart parse_foucault_start(const std::string& name) {
 
 const char* to_string(FoucaultStart s) { return s == FoucaultStart::legendre ? "legendre" : "taylor"; }
 
+FoucaultConstraint parse_foucault_constraint(const std::string& name) {
+  if (name == "paper") return FoucaultConstraint::paper;
+  if (name == "rotation") return FoucaultConstraint::rotation;
+  throw InputError("unknown constraint discretization '" + name + "' (known: paper rotation)");
+}
+
+const char* to_string(FoucaultConstraint c) { return c == FoucaultConstraint::paper ? "paper" : "rotation"; }
+
 const std::vector<std::string>& foucault_scheme_names() {
   static const std::vector<std::string> names{schemes::LaNh::name, schemes::ContactNh::name};
   return names;
@@ -55,7 +63,7 @@ double fit_precession_rate(const std::vector<FoucaultTurn>& turns, int* points) 
 }
 
 FoucaultRun run_foucault(const std::string& scheme, const FoucaultScene& scene, double h, FoucaultStart start,
-                         long sample_every) {
+                         long sample_every, FoucaultConstraint constraint) {
   scene.validate();
   const long N = step_count(h, scene.T);
   require(sample_every >= 1, "sample_every must be a positive integer");
@@ -64,7 +72,7 @@ FoucaultRun run_foucault(const std::string& scheme, const FoucaultScene& scene, 
     const FoucaultParams<double> p(scene);
     const Vec2<double> q0(scene.x0, scene.y0), v0(scene.vx0, scene.vy0);
     FoucaultDiagnostics<double> diag(p, h, N, sample_every, q0, v0);
-    integrate_foucault<Scheme>(p, q0, v0, h, N, start, diag);
+    integrate_foucault<Scheme>(p, q0, v0, h, N, start, diag, constraint);
     FoucaultRun run;
     run.summary = diag.summary();
     run.samples = std::move(diag.samples);

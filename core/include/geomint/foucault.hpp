@@ -11,6 +11,8 @@
 //   schemes::LaNh            the LA nonholonomic integrator, eq. (15)            name "la-nh"
 //   schemes::ContactNh       the contact nonholonomic integrator, eq. (18)       name "contact-nh"
 //   FoucaultStart            how q_1 is obtained from (q0, q0') (see below)
+//   FoucaultConstraint       which discretization of (13): "paper" (the third row of (15), (18); default)
+//                            or "rotation" (the remedy: the plane angle carried exactly; see below)
 //   integrate_foucault       fixed count of steps, two-step recurrence (q_{j-1}, q_j) -> (q_j, q_{j+1})
 //   FoucaultDiagnostics<T>   observer: energy, constraint residual, lambda, min distance, plane angle
 //   foucault_exact / foucault_reference   closed-form solution and the Boost.Odeint reference
@@ -166,6 +168,72 @@ enum class FoucaultStart { legendre, taylor };
 FoucaultStart parse_foucault_start(const std::string& name);  // InputError for an unknown name
 const char* to_string(FoucaultStart s);
 
+// ---------------------------------------------------------------------------------------------------
+// Two discretizations of the constraint (13)
+//
+// paper (default; reproduces Section 3.2): the third row of (15) and (18), (13) o Psi,
+//     A(q_j).(q_{j+1} - q_j)/h + s |q_j|^2 = 0    <=>    q_j x q_{j+1} = -s h |q_j|^2,
+//   with the constraint force along A(q_j) in rows 1-2. The covector A(q) = (-y, x) = |q| n(theta(q))
+//   vanishes at the origin, so the step's 3x3 determinant is proportional to |q_j|^2; and the row reads
+//   the direction of the plane off the point q_j itself: "the part of q_{j+1} normal to q_j is
+//   -s h |q_j|". Applied to the step into a point q_L that lands next to the origin, it says
+//       sin(angle from q_{L-1} to q_L) = -s h |q_{L-1}| / |q_L|      (signed radii along the plane),
+//   so when |q_L| = rho |q_{L+1} - q_L| with rho << 1 the plane turns by asin(s h |q_{L-1}|/|q_L|)
+//   ~ s h / rho in one step, and the next step (whose force is along A(q_L)) removes the velocity across
+//   the new direction: the energy drops by sin^2 of that angle. This is the anomaly; the detector and the
+//   ensembles that measure it are in foucault_ensemble.hpp.
+//
+// rotation (the remedy): in polar coordinates q = r e(theta), (13) reads r^2 (theta' + s) = 0: off the
+//   origin the plane turns at exactly -s (theta(t) = theta_0 - s t, see foucault_exact). So on consistent
+//   data (13) is r times the time derivative of the rheonomic, holonomic constraint
+//       g(q, t) = n(phi(t)).q = 0,   phi(t) = phi_0 - s t,   e(phi) = (cos phi, sin phi),  n(phi) = (-sin phi, cos phi)
+//   (d/dt g = n.q' - phi' e.q = n.q' + s r on the line, and r (n.q' + s r) = A(q).q' + s r^2 = Phi).
+//   The remedy carries the plane angle as part of the state, phi_j = phi_0 - s t_j with t_j = j h (so
+//   phi_{j+1} - phi_j = -h Omega sin(beta) exactly, evaluated afresh at every step, never accumulated),
+//   phi_0 = atan2(y_0, x_0) (for consistent data the exact plane passes through q_0), and
+//     - replaces the third row of (15)/(18) by   n(phi_{j+1}) . q_{j+1} = 0   (q_{j+1} on the rotated line;
+//       equivalently theta_{j+1} - theta_j = -h s modulo pi, the issue's "exact rotation of the polar angle"
+//       — modulo pi, because the bob passes through the origin and its polar angle then jumps by pi);
+//     - replaces the force direction A(q_j) = (-y_j, x_j) in rows 1-2 by the unit covector n(phi_j);
+//     - keeps everything else in rows 1-2 of (15)/(18) as printed.
+//   Each step stays linear in (q_{j+1}, lambda_1); the determinant of the 3x3 system is c n(phi_{j+1}).n(phi_j)/m
+//   = c cos(s h)/m (c = 1/h + alpha for LA, 1/h^2 for contact): independent of q_j, never singular. (The
+//   paper's is c |q_j|^2 / (m h).)
+//   Why the force along n(phi_j), not along A(q_j) or n(phi_{j+1}):
+//     (1) It is the paper's direction. q_j lies on the line L(phi_j), q_j = r_j e(phi_j) with r_j signed, so
+//         A(q_j) = r_j n(phi_j): the force keeps the direction of (15)/(18) and the multiplier is rescaled,
+//         lambda_1(paper) = lambda_1(rotation) / r_j. The factor r_j that makes the paper's system singular
+//         at the origin moves out of the unknown; the force itself was always bounded.
+//     (2) It is d'Alembert's principle at t_j: rows 1-2 are the variation at q_j, the admissible variations
+//         there are along L(phi_j) (the kernel of A(q_j), i.e. the direction of q_j), and the force must do
+//         no work on them. The constraint is imposed at the new point, as (15)/(18) (and SHAKE for holonomic
+//         constraints) do.
+//     (3) A(q_j) itself would keep the singularity (the determinant becomes c r_j cos(s h)/m); n(phi_{j+1})
+//         (orthogonal projection onto the new line) is regular too but is not the direction at q_j: it adds
+//         a tangential force sin(s h) lambda_1, an O(h) change of the same size as the schemes' own error.
+//   The multiplier lambda_1 of the rotation rows is an impulse per step (LA, N s) or a force (contact, N); its
+//   continuous-equivalent (13) multiplier is lambda_force / r_j (kg/s, comparable with the paper's).
+//   This remedy uses that (13) integrates to a rotation of the plane, which holds for this constraint; it is
+//   not a general cure for nonholonomic constraints whose covector vanishes.
+enum class FoucaultConstraint { paper, rotation };
+
+FoucaultConstraint parse_foucault_constraint(const std::string& name);  // InputError for an unknown name
+const char* to_string(FoucaultConstraint c);
+
+// The plane of oscillation at angle phi: direction e(phi) and normal n(phi).
+template <class T>
+struct FoucaultLine {
+  Vec2<T> e, n;
+};
+
+template <class T>
+FoucaultLine<T> foucault_line(T phi) {
+  using std::cos;
+  using std::sin;
+  const T c = cos(phi), sn = sin(phi);
+  return {Vec2<T>(c, sn), Vec2<T>(-sn, c)};
+}
+
 // The literal 3x3 linear system of one step, unknowns z = (x_{j+1}, y_{j+1}, lambda_1).
 template <class T>
 struct LinearStep {
@@ -256,6 +324,54 @@ struct LaNh {
     qn = q + rhs / c;
     lambda1 = lm * p.m;
   }
+
+  // ----- rotation discretization of (13) (see FoucaultConstraint): L = line of phi_j, Ln = line of phi_{j+1}.
+  // Rows 1-2 of (15) with lambda_1 (y_j, -x_j)/m = -lambda_1 A(q_j)/m replaced by -lambda_1 n(phi_j)/m;
+  // row 3: n(phi_{j+1}).q_{j+1}. lambda_1 is an impulse (N s); lambda_1/h is the force.
+  template <class T>
+  static Vec3<T> residual_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q,
+                                   const Vec2<T>& qn, T lambda1, T h, const FoucaultLine<T>& L,
+                                   const FoucaultLine<T>& Ln) {
+    const T xm = qm(0), ym = qm(1), x = q(0), y = q(1), xn = qn(0), yn = qn(1);
+    Vec3<T> r;
+    r(0) = (-xn + 2 * x - xm) / h - h * p.w2 * x - p.alpha * (xn - x) - lambda1 * L.n(0) / p.m;
+    r(1) = (-yn + 2 * y - ym) / h - h * p.w2 * y - p.alpha * (yn - y) - lambda1 * L.n(1) / p.m;
+    r(2) = Ln.n(0) * xn + Ln.n(1) * yn;
+    return r;
+  }
+
+  template <class T>
+  static LinearStep<T> system_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h,
+                                       const FoucaultLine<T>& L, const FoucaultLine<T>& Ln) {
+    LinearStep<T> ls = system(p, qm, q, h);
+    ls.A(0, 2) = -L.n(0) / p.m;
+    ls.A(1, 2) = -L.n(1) / p.m;
+    ls.A(2, 0) = Ln.n(0);
+    ls.A(2, 1) = Ln.n(1);
+    ls.b(2) = 0;
+    return ls;
+  }
+
+  // Closed form. Rows 1-2: q_{j+1} = qh - mu n(phi_j), with the unconstrained point
+  // qh = q_j + ((q_j - q_{j-1})/h - h w2 q_j)/c and mu = lambda_1/(m c); row 3 gives
+  // mu = n_{j+1}.qh / (n_{j+1}.n_j), n_{j+1}.n_j = cos(s h). q_{j+1} is then built in the basis of the new
+  // line, q_{j+1} = (e_{j+1}.qh - mu e_{j+1}.n_j) e_{j+1}: the same solution in exact arithmetic, and in floating
+  // point its angle is phi_{j+1} to round-off however close to the origin it lands.
+  template <class T>
+  static void step_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h,
+                            const FoucaultLine<T>& L, const FoucaultLine<T>& Ln, Vec2<T>& qn, T& lambda1) {
+    const T c = 1 / h + p.alpha;
+    const Vec2<T> qh = q + ((q - qm) / h - h * p.w2 * q) / c;
+    const T mu = Ln.n.dot(qh) / Ln.n.dot(L.n);
+    qn = (Ln.e.dot(qh) - mu * Ln.e.dot(L.n)) * Ln.e;
+    lambda1 = mu * p.m * c;
+  }
+
+  // The continuous-equivalent (13) multiplier of a rotation step: lambda_force / r_j, r_j = e(phi_j).q_j.
+  template <class T>
+  static T lambda_force_rotation(T lambda1, T h, const Vec2<T>& q, const FoucaultLine<T>& L) {
+    return lambda1 / h / L.e.dot(q);
+  }
 };
 
 // Contact nonholonomic integrator, eq. (18): the constrained discrete Herglotz equations (4) with
@@ -323,6 +439,51 @@ struct ContactNh {
     qn = q + damp * d - h * h * p.w2 * (1 - h * p.alpha / 2) * q + h * h * lm * Vec2<T>(q(1), -q(0));
     lambda1 = lm * p.m;
   }
+
+  // ----- rotation discretization of (13) (see FoucaultConstraint): rows 1-2 of (18) with
+  // lambda_1 (y_j, -x_j)/m replaced by -lambda_1 n(phi_j)/m; row 3: n(phi_{j+1}).q_{j+1}. lambda_1 is a force (N).
+  template <class T>
+  static Vec3<T> residual_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q,
+                                   const Vec2<T>& qn, T lambda1, T h, const FoucaultLine<T>& L,
+                                   const FoucaultLine<T>& Ln) {
+    const T xm = qm(0), ym = qm(1), x = q(0), y = q(1), xn = qn(0), yn = qn(1);
+    Vec3<T> r;
+    r(0) = (-xn + 2 * x - xm) / (h * h) - p.w2 * x - p.alpha * ((x - xm) / h - h * p.w2 / 2 * x) -
+           lambda1 * L.n(0) / p.m;
+    r(1) = (-yn + 2 * y - ym) / (h * h) - p.w2 * y - p.alpha * ((y - ym) / h - h * p.w2 / 2 * y) -
+           lambda1 * L.n(1) / p.m;
+    r(2) = Ln.n(0) * xn + Ln.n(1) * yn;
+    return r;
+  }
+
+  template <class T>
+  static LinearStep<T> system_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h,
+                                       const FoucaultLine<T>& L, const FoucaultLine<T>& Ln) {
+    LinearStep<T> ls = system(p, qm, q, h);
+    ls.A(0, 2) = -L.n(0) / p.m;
+    ls.A(1, 2) = -L.n(1) / p.m;
+    ls.A(2, 0) = Ln.n(0);
+    ls.A(2, 1) = Ln.n(1);
+    ls.b(2) = 0;
+    return ls;
+  }
+
+  // Closed form: q_{j+1} = qh - mu n(phi_j) with
+  // qh = q_j + (1 - h alpha)(q_j - q_{j-1}) - h^2 w2 (1 - h alpha/2) q_j and mu = h^2 lambda_1/m
+  // = n_{j+1}.qh / (n_{j+1}.n_j), built in the basis of the new line (see LaNh::step_rotation).
+  template <class T>
+  static void step_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h,
+                            const FoucaultLine<T>& L, const FoucaultLine<T>& Ln, Vec2<T>& qn, T& lambda1) {
+    const Vec2<T> qh = q + (1 - h * p.alpha) * (q - qm) - h * h * p.w2 * (1 - h * p.alpha / 2) * q;
+    const T mu = Ln.n.dot(qh) / Ln.n.dot(L.n);
+    qn = (Ln.e.dot(qh) - mu * Ln.e.dot(L.n)) * Ln.e;
+    lambda1 = mu * p.m / (h * h);
+  }
+
+  template <class T>
+  static T lambda_force_rotation(T lambda1, T /*h*/, const Vec2<T>& q, const FoucaultLine<T>& L) {
+    return lambda1 / L.e.dot(q);
+  }
 };
 
 }  // namespace schemes
@@ -341,6 +502,7 @@ const std::vector<std::string>& foucault_scheme_names();
 
 // One step as an observer sees it: q_{j-1} (virtual for j = 0), q_j, q_{j+1}, and the multiplier of the
 // step j -> j+1 (lambda_1 as in the paper, and the continuous-equivalent force multiplier).
+// For the rotation discretization the step also carries the plane angle phi_{j+1} of q_{j+1}'s line.
 template <class T>
 struct FoucaultStep {
   long j;
@@ -349,24 +511,79 @@ struct FoucaultStep {
   const Vec2<T>& q;
   const Vec2<T>& qn;
   T lambda1, lambda;
+  FoucaultConstraint constraint;
+  T phin;  // phi_{j+1} = phi_0 - s t_{j+1} (rotation); NaN for paper
 };
+
+// Steps j = j0 .. j1-1 of `Scheme` from (q_{j0-1}, q_{j0}): the observer is called with the step j -> j+1, so
+// it sees every q_j, j = j0..j1. t_j = j h (never accumulated). For the rotation discretization phi_0 is the
+// plane angle at t = 0 (phi_j = phi_0 - s t_j); it is unused for paper. No allocation happens here.
+// integrate_foucault below is this with j0 = 0 after the start; this form restarts a run mid-way (e.g. a
+// higher-precision rerun of one pass from the double state just before it).
+template <class Scheme, class T, class Observer>
+void integrate_foucault_steps(const FoucaultParams<T>& p, Vec2<T> qm, Vec2<T> q, long j0, long j1, T h,
+                              FoucaultConstraint constraint, T phi0, Observer&& observe) {
+  using std::isfinite;
+  Vec2<T> qn;
+  T lambda1;
+  if (constraint == FoucaultConstraint::paper) {
+    const T nan = std::numeric_limits<T>::quiet_NaN();
+    for (long j = j0; j < j1; ++j) {
+      Scheme::step(p, qm, q, h, qn, lambda1, j);
+      if (!isfinite(qn(0)) || !isfinite(qn(1))) throw NumericalFailure(j + 1, "state", "non-finite q_{j+1}");
+      observe(FoucaultStep<T>{j, T(j) * h, qm, q, qn, lambda1, Scheme::lambda_force(lambda1, h),
+                              FoucaultConstraint::paper, nan});
+      qm = q;
+      q = qn;
+    }
+    return;
+  }
+  // The line of q_k is at phi_k = phi0 - s t_k. Its cos and sin are evaluated afresh every K steps (the
+  // anchor) and in between by one rotation from a table of the rotations by -s h b, b < K: the same
+  // direction to a few ulps (tests/foucault_anomaly.test.cpp checks the angle of every q_k against
+  // phi0 - s t_k), without a sincos per step (which would double the cost of a step).
+  using std::cos;
+  using std::sin;
+  constexpr long K = 64;
+  std::array<T, K> cb, sb;  // R(-s h b) = [[cb, -sb], [sb, cb]]
+  for (long b = 0; b < K; ++b) {
+    const T a = p.s * (T(b) * h);
+    cb[static_cast<std::size_t>(b)] = cos(a);
+    sb[static_cast<std::size_t>(b)] = -sin(a);
+  }
+  FoucaultLine<T> anchor = foucault_line<T>(phi0 - p.s * (T(j0) * h)), L = anchor, Ln;
+  long b = 0;
+  for (long j = j0; j < j1; ++j) {
+    const T phin = phi0 - p.s * (T(j + 1) * h);
+    if (++b == K) {
+      b = 0;
+      anchor = foucault_line<T>(phin);
+      Ln = anchor;
+    } else {
+      const T c = cb[static_cast<std::size_t>(b)], sn = sb[static_cast<std::size_t>(b)];
+      Ln.e = Vec2<T>(c * anchor.e(0) - sn * anchor.e(1), sn * anchor.e(0) + c * anchor.e(1));
+      Ln.n = Vec2<T>(-Ln.e(1), Ln.e(0));
+    }
+    Scheme::step_rotation(p, qm, q, h, L, Ln, qn, lambda1);
+    if (!isfinite(qn(0)) || !isfinite(qn(1))) throw NumericalFailure(j + 1, "state", "non-finite q_{j+1}");
+    observe(FoucaultStep<T>{j, T(j) * h, qm, q, qn, lambda1, Scheme::lambda_force_rotation(lambda1, h, q, L),
+                            FoucaultConstraint::rotation, phin});
+    qm = q;
+    q = qn;
+    L = Ln;
+  }
+}
 
 // N steps of `Scheme` from (q0, v0): the observer is called for j = 0 .. N-1 with the step j -> j+1, so
 // it sees every q_j, j = 0..N. t_j = j h (never accumulated). No allocation happens here.
+// `constraint` selects the discretization of (13); paper (the default) is (15)/(18) as printed.
 template <class Scheme, class T, class Observer>
 void integrate_foucault(const FoucaultParams<T>& p, const Vec2<T>& q0, const Vec2<T>& v0, T h, long N,
-                        FoucaultStart start, Observer&& observe) {
-  using std::isfinite;
-  Vec2<T> qm = Scheme::previous_point(p, q0, v0, h, start);
-  Vec2<T> q = q0, qn;
-  T lambda1;
-  for (long j = 0; j < N; ++j) {
-    Scheme::step(p, qm, q, h, qn, lambda1, j);
-    if (!isfinite(qn(0)) || !isfinite(qn(1))) throw NumericalFailure(j + 1, "state", "non-finite q_{j+1}");
-    observe(FoucaultStep<T>{j, T(j) * h, qm, q, qn, lambda1, Scheme::lambda_force(lambda1, h)});
-    qm = q;
-    q = qn;
-  }
+                        FoucaultStart start, Observer&& observe,
+                        FoucaultConstraint constraint = FoucaultConstraint::paper) {
+  using std::atan2;
+  integrate_foucault_steps<Scheme>(p, Scheme::previous_point(p, q0, v0, h, start), q0, 0, N, h, constraint,
+                                   atan2(q0(1), q0(0)), observe);
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -395,8 +612,8 @@ struct FoucaultSummary {
   double E0 = 0;                 // continuous energy of the consistent initial state
   double E_final = 0;            // E_{N-1/2}
   double t_final = 0;            // T - h/2
-  double max_residual = 0;       // max_j |Phi_d| / scale (round-off units of eps at most a few)
-  double max_abs_residual = 0;   // max_j |Phi_d|, m^2/s
+  double max_residual = 0;       // max_j |Phi_d| / scale (round-off units of eps at most a few); rotation: see operator()
+  double max_abs_residual = 0;   // max_j |Phi_d|, m^2/s (rotation: |n(phi_{j+1}).q_{j+1}|, m)
   double max_abs_lambda = 0;     // max_j |lambda| (continuous-equivalent), kg/s
   double min_r = 0;              // min_j |q_j|, j = 0..N
   double t_min_r = 0;
@@ -441,8 +658,11 @@ class FoucaultDiagnostics {
     const T r = st.q.norm(), rn = st.qn.norm();
     const double t = static_cast<double>(st.t);
     const T E = chord_energy(p_, st.q, st.qn, h_);
-    const T phid = discrete_constraint(p_, st.q, st.qn, h_);
-    const T scale = discrete_constraint_scale(st.q, st.qn, h_);
+    // The residual of the discretization that was imposed: Phi_d (paper) or n(phi_{j+1}).q_{j+1} (rotation,
+    // scaled by |q_j| + |q_{j+1}|, the size of the step's inputs and output).
+    const bool rot = st.constraint == FoucaultConstraint::rotation;
+    const T phid = rot ? foucault_line<T>(st.phin).n.dot(st.qn) : discrete_constraint(p_, st.q, st.qn, h_);
+    const T scale = rot ? T(st.q.norm() + rn) : discrete_constraint_scale(st.q, st.qn, h_);
     const double res = static_cast<double>(scale > 0 ? abs(phid) / scale : abs(phid));
     auto& S = summary_;
     S.max_residual = std::max(S.max_residual, res);
@@ -518,7 +738,7 @@ struct FoucaultRun {
 // Runs N = T/h steps (step_count refuses h that does not divide T). Throws InputError for bad input and
 // NumericalFailure (with the step index) when a step cannot be solved.
 FoucaultRun run_foucault(const std::string& scheme, const FoucaultScene& scene, double h, FoucaultStart start,
-                         long sample_every);
+                         long sample_every, FoucaultConstraint constraint = FoucaultConstraint::paper);
 
 // ---------------------------------------------------------------------------------------------------
 // Continuous solution
