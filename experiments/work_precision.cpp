@@ -39,18 +39,6 @@ struct Point {
 
 const double T = 50, q0 = -0.25, p0 = 0.75;
 
-// Repeats a short run so each timed call lasts >= ~2 ms; returns seconds per run.
-template <class F>
-TimingStats timed(F&& fn, int reps) {
-  const auto once = time_median(fn, 1);
-  const int inner = std::max(1, static_cast<int>(2e-3 / std::max(once.median, 1e-9)));
-  auto st = time_median([&] { for (int i = 0; i < inner; ++i) fn(); }, reps);
-  st.median /= inner;
-  st.min /= inner;
-  st.max /= inner;
-  return st;
-}
-
 template <class S>
 Point fixed_step(const std::string& name, double alpha, double h, int reps) {
   const long N = step_count(h, T);
@@ -61,7 +49,7 @@ Point fixed_step(const std::string& name, double alpha, double h, int reps) {
       err = std::max(err, std::abs(x.q - oscillator_exact(alpha, q0, p0, static_cast<double>(j) * h).q));
     });
   }
-  const auto t = timed(
+  const auto t = time_per_call(
       [&] {
         OscState<double> s{q0, p0, 0};
         integrate_const<S>(s, h, N, alpha, [](long, const OscState<double>&) {});
@@ -85,7 +73,7 @@ Point odeint_rk4(double alpha, double h, int reps) {
   };
   double err = 0;
   run(&err);
-  return {"odeint-rk4", "h", alpha, h, err, N, timed([&] { run(nullptr); }, reps)};
+  return {"odeint-rk4", "h", alpha, h, err, N, time_per_call([&] { run(nullptr); }, reps)};
 }
 
 template <class Stepper>
@@ -103,7 +91,7 @@ Point odeint_adaptive(const std::string& name, Stepper make, double alpha, doubl
     do_not_optimize(x[0]);
   };
   run(true);
-  return {name, "tol", alpha, tol, err, steps, timed([&] { run(false); }, reps)};
+  return {name, "tol", alpha, tol, err, steps, time_per_call([&] { run(false); }, reps)};
 }
 
 int gsl_rhs(double, const double y[], double f[], void* params) {
@@ -139,7 +127,7 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
     do_not_optimize(y[0]);
   };
   run(true);
-  return {"gsl-rk8pd", "tol", alpha, tol, err, steps, timed([&] { run(false); }, reps)};
+  return {"gsl-rk8pd", "tol", alpha, tol, err, steps, time_per_call([&] { run(false); }, reps)};
 }
 
 }  // namespace

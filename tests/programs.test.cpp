@@ -45,6 +45,8 @@ const BadInput bad_inputs[] = {
     {"stability_oscillator", "--h-min 0", "h-min must be a positive"},
     {"stability_oscillator", "--h-min 1 --h-max 0.5", "h-max must be finite and exceed"},
     {"stability_oscillator", "--schemes nosuch", "unknown scheme"},
+    {"work_precision_foucault", "--alpha=-1", "alpha"},
+    {"work_precision_foucault", "--reps 0", "reps must be in"},
 };
 
 }  // namespace
@@ -72,7 +74,7 @@ TEST_CASE("an unwritable output folder is refused", "[programs]") {
 }
 
 TEST_CASE("--help prints usage and exits 0", "[programs]") {
-  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error", "work_precision", "bench_steps", "stability_oscillator"}) {
+  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error", "work_precision", "bench_steps", "stability_oscillator", "work_precision_foucault"}) {
     const auto r = run_program(p, "--help");
     INFO(p);
     CHECK(r.exit_code == 0);

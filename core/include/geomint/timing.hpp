@@ -32,4 +32,17 @@ TimingStats time_median(F&& fn, int reps = 7) {
   return {t[t.size() / 2], t.front(), t.back(), reps};
 }
 
+// For calls too short to time alone: repeats fn so each timed sample lasts >= min_seconds, and returns
+// the median time of one call.
+template <class F>
+TimingStats time_per_call(F&& fn, int reps = 5, double min_seconds = 2e-3) {
+  const auto once = time_median(fn, 1);
+  const int inner = std::max(1, static_cast<int>(min_seconds / std::max(once.median, 1e-9)));
+  auto st = time_median([&] { for (int i = 0; i < inner; ++i) fn(); }, reps);
+  st.median /= inner;
+  st.min /= inner;
+  st.max /= inner;
+  return st;
+}
+
 }  // namespace geomint

@@ -1,0 +1,142 @@
+// Work–precision for the damped Foucault pendulum: max error in q against the closed-form solution versus
+// CPU time. Two horizons without anomalies: T = 4 s with the paper's constraint discretization (before the
+// first pass through the origin) and T = 100 s with the non-singular 'rotation' discretization (no jumps by
+// construction). Fixed-step schemes are swept over h (max over every step); Boost.Odeint's dopri5 on the
+// Lagrange–d'Alembert multiplier ODE is swept over tolerance (max over the output grid t = 0.1 j it hits).
+//   work_precision_foucault [--alpha 1e-3] [--reps 5] [--out out]
+// Writes out/work_precision_foucault.tsv (errors), out/work_precision_foucault_timings.tsv and the figure.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/foucault.hpp"
+#include "geomint/io.hpp"
+#include "geomint/plots/figure.hpp"
+#include "geomint/study.hpp"
+#include "geomint/timing.hpp"
+
+using namespace geomint;
+
+namespace {
+
+struct Point {
+  std::string method, constraint, knob;
+  double T, value, err;
+  long steps;
+  TimingStats time;
+};
+
+template <class Scheme>
+Point scheme_point(const FoucaultScene& sc, FoucaultConstraint con, double T, double h, int reps) {
+  const FoucaultParams<double> p(sc);
+  const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
+  const Vec2<double> v0c = consistent_velocity(p, q0, v0);
+  const long N = step_count(h, T);
+  double err = 0;
+  integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
+    const double t = static_cast<double>(st.j + 1) * h;
+    err = std::max(err, (st.qn - foucault_exact(p, q0, v0c, t).q).template lpNorm<Eigen::Infinity>());
+  }, con);
+  const auto tm = time_per_call([&] {
+    double acc = 0;
+    integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre,
+                               [&](const FoucaultStep<double>& st) { acc += st.qn(0); }, con);
+    do_not_optimize(acc);
+  }, reps);
+  return {Scheme::name, to_string(con), "h", T, h, err, N, tm};
+}
+
+Point odeint_point(const FoucaultScene& sc, double T, double tol, int reps) {
+  const FoucaultParams<double> p(sc);
+  const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
+  const Vec2<double> v0c = consistent_velocity(p, q0, v0);
+  std::vector<double> times;
+  for (long j = 0; j <= std::lround(T / 0.1); ++j) times.push_back(0.1 * static_cast<double>(j));
+  const auto ref = foucault_reference(sc, times, tol);
+  double err = 0;
+  for (size_t j = 0; j < times.size(); ++j) {
+    const auto ex = foucault_exact(p, q0, v0c, times[j]).q;
+    err = std::max({err, std::abs(ref[j][0] - ex(0)), std::abs(ref[j][1] - ex(1))});
+  }
+  const auto tm = time_per_call([&] { do_not_optimize(foucault_reference(sc, times, tol).back()[0]); }, reps);
+  return {"odeint-dopri5", "ode", "tol", T, tol, err, static_cast<long>(times.size()), tm};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return guarded_main("work_precision_foucault", [&] {
+    double alpha = 1e-3;
+    int reps = 5;
+    Cli cli("work_precision_foucault", "error against CPU time for the Foucault pendulum over anomaly-free horizons");
+    cli.options.add_options()("alpha", po::value(&alpha)->default_value(alpha), "damping")(
+        "reps", po::value(&reps)->default_value(reps), "timed repetitions");
+    if (!cli.parse(argc, argv)) return 0;
+    FoucaultScene sc;
+    sc.alpha = alpha;
+    sc.validate();
+    require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
+    const auto dir = prepare_output_dir(cli.out);
+
+    const auto hs = halving_sequence(0.1, 4e-4);
+    const std::vector<double> tols{1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
+    struct Horizon {
+      double T;
+      FoucaultConstraint con;
+    };
+    const Horizon horizons[] = {{4, FoucaultConstraint::paper}, {100, FoucaultConstraint::rotation}};
+    std::vector<Point> pts;
+    for (const auto& hz : horizons) {
+      std::fprintf(stderr, "work_precision_foucault: T = %g s ...\n", hz.T);
+      for (double h : hs) {
+        pts.push_back(scheme_point<schemes::LaNh>(sc, hz.con, hz.T, h, reps));
+        pts.push_back(scheme_point<schemes::ContactNh>(sc, hz.con, hz.T, h, reps));
+      }
+      for (double tol : tols) pts.push_back(odeint_point(sc, hz.T, tol, reps));
+    }
+    const Params params{{"alpha", format_number(alpha)}, {"T", "4 (constraint paper), 100 (constraint rotation)"},
+                        {"h", format_list(hs)}, {"tol", format_list(tols)}, {"start", "legendre"},
+                        {"error", "max |q - q_exact| over every step (schemes) or over t = 0.1 j (odeint)"},
+                        {"reps", std::to_string(reps)}};
+    TsvWriter data(dir / "work_precision_foucault.tsv", "work_precision_foucault", params,
+                   {"method", "constraint", "T", "knob", "value", "steps", "err_max"});
+    TsvWriter tim(dir / "work_precision_foucault_timings.tsv", "work_precision_foucault", params,
+                  {"method", "constraint", "T", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
+    for (const auto& p : pts) {
+      data.row(p.method, p.constraint, p.T, p.knob, p.value, p.steps, p.err);
+      tim.row(p.method, p.constraint, p.T, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
+    }
+    data.commit();
+    tim.commit();
+
+    const auto d = plots::read_tsv(dir / "work_precision_foucault.tsv");
+    const auto tt = plots::read_tsv(dir / "work_precision_foucault_timings.tsv");
+    std::printf("CPU time to reach max error <= 1e-6 m (median, microseconds)\n");
+    plots::Figure fig;
+    fig.title = "Foucault pendulum, alpha = " + format_number(alpha) + ": max error in q against CPU time (median)";
+    fig.cols = 2;
+    fig.width_in = 11;
+    fig.height_in = 4.6;
+    for (const auto& hz : horizons) {
+      plots::Panel panel;
+      panel.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
+                    "set ylabel 'max error in q (m)'\nset key bottom left\nset title 'T = " + format_number(hz.T) +
+                    " s, constraint " + to_string(hz.con) + "'\n";
+      for (const std::string m : {"la-nh", "contact-nh", "odeint-dopri5"}) {
+        auto keep = [&](size_t i) { return d.text(i, "method") == m && d.number(i, "T") == hz.T; };
+        const auto x = tt.numbers("seconds_median", keep), y = d.numbers("err_max", keep);
+        double best = INFINITY;
+        for (size_t i = 0; i < x.size(); ++i)
+          if (y[i] <= 1e-6) best = std::min(best, x[i]);
+        std::printf("  T = %-4g %-14s %10s\n", hz.T, m.c_str(),
+                    std::isfinite(best) ? format_number(std::round(best * 1e7) / 10).c_str() : "-");
+        panel.series.push_back({x, y, m, plots::style_for(m == "odeint-dopri5" ? "reference" : m, "linespoints")});
+      }
+      fig.panels.push_back(std::move(panel));
+    }
+    fig.draw(dir / "work_precision_foucault");
+    return 0;
+  });
+}
