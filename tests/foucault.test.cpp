@@ -492,16 +492,7 @@ const BadInput foucault_bad_inputs[] = {
 
 TEST_CASE("Foucault programs reject bad input with one line, exit 2, and write nothing", "[foucault][programs]") {
   using namespace geomint::testing;
-  for (const auto& b : foucault_bad_inputs) {
-    const auto dir = fresh_dir("foucault-bad-input");
-    const auto r = run_program(b.program, std::string(b.args) + " --out " + (dir / "out").string());
-    INFO(b.program << " " << b.args << " -> exit " << r.exit_code << ": " << r.err);
-    CHECK(r.exit_code == 2);
-    CHECK(r.err.find(b.expect) != std::string::npos);
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    CHECK(!std::filesystem::exists(dir / "out"));
-    std::filesystem::remove_all(dir);
-  }
+  for (const auto& b : foucault_bad_inputs) check_rejected(b.program, b.args, b.expect);
   for (const char* p : {"fig2_foucault", "convergence_foucault"}) CHECK(run_program(p, "--help").exit_code == 0);
 }
 

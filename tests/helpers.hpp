@@ -1,5 +1,6 @@
 #pragma once
 // Shared test helpers: a fresh temporary folder, running a program and capturing its exit code and stderr.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -7,6 +8,8 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+
+#include <catch2/catch.hpp>
 
 namespace geomint::testing {
 
@@ -38,6 +41,18 @@ inline std::size_t count_files(const std::filesystem::path& dir) {
   for (auto it = std::filesystem::recursive_directory_iterator(dir); it != std::filesystem::recursive_directory_iterator(); ++it)
     if (it->is_regular_file()) ++n;
   return n;
+}
+
+// The bad-input contract of every program: one line on stderr containing `expect`, exit 2, no output written.
+inline void check_rejected(const std::string& program, const std::string& args, const std::string& expect) {
+  const auto dir = fresh_dir("bad-input");
+  const auto r = run_program(program, args + " --out " + (dir / "out").string());
+  INFO(program << " " << args << " -> exit " << r.exit_code << ": " << r.err);
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find(expect) != std::string::npos);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK(!std::filesystem::exists(dir / "out"));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace geomint::testing

@@ -253,6 +253,21 @@ void require_solvable(T r2, long j) {
 }
 }  // namespace detail
 
+namespace detail {
+// The rotation discretization changes the same entries of either scheme's 3x3 system: the force column
+// becomes -n(phi_j)/m and the constraint row n(phi_{j+1}) . q_{j+1} = 0.
+template <class T>
+LinearStep<T> to_rotation_system(LinearStep<T> ls, const FoucaultParams<T>& p, const FoucaultLine<T>& L,
+                                 const FoucaultLine<T>& Ln) {
+  ls.A(0, 2) = -L.n(0) / p.m;
+  ls.A(1, 2) = -L.n(1) / p.m;
+  ls.A(2, 0) = Ln.n(0);
+  ls.A(2, 1) = Ln.n(1);
+  ls.b(2) = 0;
+  return ls;
+}
+}  // namespace detail
+
 // Lagrange–d'Alembert nonholonomic integrator, eq. (15): the forced constrained discrete Euler–Lagrange
 // equations (1) with L_d(q_j, q_{j+1}) = h L(q_j, (q_{j+1}-q_j)/h), F_d^-(q_j, q_{j+1}) = -alpha m (q_{j+1}-q_j),
 // F_d^+ = 0, and the discrete constraint (13) o Psi. Rows 1-2 of (15) are m^{-1} times
@@ -346,13 +361,7 @@ struct LaNh {
   template <class T>
   static LinearStep<T> system_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h,
                                        const FoucaultLine<T>& L, const FoucaultLine<T>& Ln) {
-    LinearStep<T> ls = system(p, qm, q, h);
-    ls.A(0, 2) = -L.n(0) / p.m;
-    ls.A(1, 2) = -L.n(1) / p.m;
-    ls.A(2, 0) = Ln.n(0);
-    ls.A(2, 1) = Ln.n(1);
-    ls.b(2) = 0;
-    return ls;
+    return detail::to_rotation_system(system(p, qm, q, h), p, L, Ln);
   }
 
   // Closed form. Rows 1-2: q_{j+1} = qh - mu n(phi_j), with the unconstrained point
@@ -462,13 +471,7 @@ struct ContactNh {
   template <class T>
   static LinearStep<T> system_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h,
                                        const FoucaultLine<T>& L, const FoucaultLine<T>& Ln) {
-    LinearStep<T> ls = system(p, qm, q, h);
-    ls.A(0, 2) = -L.n(0) / p.m;
-    ls.A(1, 2) = -L.n(1) / p.m;
-    ls.A(2, 0) = Ln.n(0);
-    ls.A(2, 1) = Ln.n(1);
-    ls.b(2) = 0;
-    return ls;
+    return detail::to_rotation_system(system(p, qm, q, h), p, L, Ln);
   }
 
   // Closed form: q_{j+1} = qh - mu n(phi_j) with
