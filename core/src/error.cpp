@@ -8,7 +8,7 @@ namespace geomint {
 long step_count(double h, double T) {
   require_positive(h, "h");
   require_positive(T, "T");
-  require(h <= T, "h = " + std::to_string(h) + " exceeds the horizon T = " + std::to_string(T));
+  require(h <= T, "h = " + show(h) + " exceeds the horizon T = " + show(T));
   const double n = T / h;
   const double N = std::round(n);
   if (std::abs(n - N) > 1e-9 * N) {

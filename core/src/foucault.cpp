@@ -14,7 +14,7 @@ void FoucaultScene::validate() const {
   require_positive(l, "l");
   require_positive(g, "g");
   require(std::isfinite(beta_deg) && std::abs(beta_deg) <= 90,
-          "beta must be a latitude in [-90, 90] degrees, got " + std::to_string(beta_deg));
+          "beta must be a latitude in [-90, 90] degrees, got " + show(beta_deg));
   require_finite(Omega, "Omega");
   require_nonnegative(alpha, "alpha");
   require_finite(x0, "x0");

@@ -1,6 +1,7 @@
 #pragma once
 // Errors that geomint reports to a user: bad input and numerical failure.
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -21,20 +22,27 @@ struct NumericalFailure : std::runtime_error {
         step(step_), quantity(std::move(quantity_)) {}
 };
 
+// Numbers in messages as a user would type them (0.1, not 0.100000).
+inline std::string show(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
 inline void require(bool ok, const std::string& message) {
   if (!ok) throw InputError(message);
 }
 
 inline void require_positive(double v, const char* name) {
-  require(std::isfinite(v) && v > 0, std::string(name) + " must be a positive finite number, got " + std::to_string(v));
+  require(std::isfinite(v) && v > 0, std::string(name) + " must be a positive finite number, got " + show(v));
 }
 
 inline void require_nonnegative(double v, const char* name) {
-  require(std::isfinite(v) && v >= 0, std::string(name) + " must be a non-negative finite number, got " + std::to_string(v));
+  require(std::isfinite(v) && v >= 0, std::string(name) + " must be a non-negative finite number, got " + show(v));
 }
 
 inline void require_finite(double v, const char* name) {
-  require(std::isfinite(v), std::string(name) + " must be finite, got " + std::to_string(v));
+  require(std::isfinite(v), std::string(name) + " must be finite, got " + show(v));
 }
 
 // Number of steps N with N*h == T (to 1e-9 relative): every run lands exactly on T, t_j = t0 + j*h.
