@@ -118,23 +118,17 @@ int main(int argc, char** argv) {
     });
     const double t_ensemble = elapsed();
 
-    const Params params{{"runs", std::to_string(runs)},
+    Params params{{"runs", std::to_string(runs)},
                         {"h", format_list(hs)},
                         {"alpha", format_list(alphas)},
                         {"T", format_number(base.T)},
-                        {"m", format_number(base.m)},
-                        {"l", format_number(base.l)},
-                        {"g", format_number(base.g)},
-                        {"beta_deg", format_number(base.beta_deg)},
-                        {"Omega", format_number(base.Omega)},
-                        {"q0", format_number(base.x0) + "," + format_number(base.y0)},
-                        {"v0", format_number(base.vx0) + "," + format_number(base.vy0)},
                         {"start", "legendre, from the exact state at tau = h (run + 1/2) / runs"},
                         {"threads", std::to_string(threads)},
                         {"record_deg", format_number(record_deg)},
                         {"jump", "plane angle change between successive turning points minus the exact -Omega sin(beta) dt"},
                         {"predicted", "paper: asin(-sigma s h |q_{L-1}|/|q_L|) + s h at the landing q_L; rotation: 0"},
                         {"energy_ratio_end", "E_{N-1/2} / (E0 exp(-alpha (T - h/2))), chord energy"}};
+    for (auto& kv : foucault_scene_params(base)) params.push_back(kv);
 
     // ---- one row per run
     {

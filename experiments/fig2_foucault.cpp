@@ -91,22 +91,16 @@ int main(int argc, char** argv) {
       const long N = step_count(h, base.T);
       const long every = std::max(1L, std::lround(sample_dt / h));
       const std::string stem = ih == 0 ? stem0 : stem0 + "_h" + format_number(h);
-      const Params params{{"h", format_number(h)},
+      Params params{{"h", format_number(h)},
                           {"T", format_number(base.T)},
                           {"alpha", format_list(alphas)},
-                          {"m", format_number(base.m)},
-                          {"l", format_number(base.l)},
-                          {"g", format_number(base.g)},
-                          {"beta_deg", format_number(base.beta_deg)},
-                          {"Omega", format_number(base.Omega)},
-                          {"q0", format_number(base.x0) + "," + format_number(base.y0)},
-                          {"v0", format_number(base.vx0) + "," + format_number(base.vy0)},
                           {"start", start_name},
                           {"constraint", constraint_name},
                           {"sample_every_steps", std::to_string(every)},
                           {"energy", "chord energy at t_j + h/2: m/2|(q_{j+1}-q_j)/h|^2 + m w2/2|(q_j+q_{j+1})/2|^2"},
                           {"angle", "plane angle atan2(y,x) at turning points (local maxima of |q|), unwrapped mod pi"},
                           {"reference", "closed form: q = R(-s t) rho, rho'' = -(w2-s^2) rho - alpha rho'"}};
+      for (auto& kv : foucault_scene_params(base)) params.push_back(kv);
       TsvWriter tsv(dir / (stem + ".tsv"), "fig2_foucault", params,
                     {"scheme", "alpha", "h", "kind", "j", "t", "x", "y", "t_energy", "energy", "lambda",
                      "residual", "angle", "jump"});

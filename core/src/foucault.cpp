@@ -1,5 +1,7 @@
 #include "geomint/foucault.hpp"
 
+#include "geomint/io.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -8,6 +10,16 @@
 #include "geomint/reference.hpp"
 
 namespace geomint {
+
+std::vector<std::pair<std::string, std::string>> foucault_scene_params(const FoucaultScene& sc) {
+  return {{"m", format_number(sc.m)},
+          {"l", format_number(sc.l)},
+          {"g", format_number(sc.g)},
+          {"beta_deg", format_number(sc.beta_deg)},
+          {"Omega", format_number(sc.Omega)},
+          {"q0", format_number(sc.x0) + "," + format_number(sc.y0)},
+          {"v0", format_number(sc.vx0) + "," + format_number(sc.vy0)}};
+}
 
 void FoucaultScene::validate() const {
   require_positive(m, "m");

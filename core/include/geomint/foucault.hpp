@@ -27,6 +27,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -63,6 +64,9 @@ struct FoucaultScene {
   double w2() const { return g / l; }
   double s() const;  // Omega sin(beta)
 };
+
+// The scene's physical parameters and initial data as header lines for output files.
+std::vector<std::pair<std::string, std::string>> foucault_scene_params(const FoucaultScene& sc);
 
 // The scalars of one run in the scalar type T. sin(beta) is evaluated in T, so a long double run is a
 // long double run of the same (double) scene, not a long double run of a rounded s.
