@@ -78,14 +78,7 @@ int main(int argc, char** argv) {
 
     // Validate everything before writing anything.
     require(runs >= 1 && runs <= 1000000, "runs must be in [1, 1000000]");
-    require(!hs.empty(), "give at least one h");
-    require(!alphas.empty(), "give at least one alpha");
-    for (double h : hs) step_count(h, base.T);
-    for (double a : alphas) {
-      FoucaultScene sc = base;
-      sc.alpha = a;
-      sc.validate();
-    }
+    validate_foucault_sweep(base, hs, alphas);
     for (const auto& n : names) visit_foucault_scheme(n, [](auto) {});
     std::vector<FoucaultConstraint> constraints;
     for (const auto& c : constraint_names) constraints.push_back(parse_foucault_constraint(c));

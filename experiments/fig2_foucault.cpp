@@ -68,14 +68,7 @@ int main(int argc, char** argv) {
     if (!cli.parse(argc, argv)) return 0;
 
     // Validate everything before writing anything.
-    require(!hs.empty(), "give at least one h");
-    require(!alphas.empty(), "give at least one alpha");
-    for (double h : hs) step_count(h, base.T);
-    for (double a : alphas) {
-      FoucaultScene sc = base;
-      sc.alpha = a;
-      sc.validate();
-    }
+    validate_foucault_sweep(base, hs, alphas);
     base.validate();
     const FoucaultStart start = parse_foucault_start(start_name);
     const FoucaultConstraint constraint = parse_foucault_constraint(constraint_name);

@@ -11,6 +11,17 @@
 
 namespace geomint {
 
+void validate_foucault_sweep(const FoucaultScene& base, const std::vector<double>& hs, const std::vector<double>& alphas) {
+  require(!hs.empty(), "give at least one h");
+  require(!alphas.empty(), "give at least one alpha");
+  for (double h : hs) step_count(h, base.T);
+  for (double a : alphas) {
+    FoucaultScene sc = base;
+    sc.alpha = a;
+    sc.validate();
+  }
+}
+
 std::vector<std::pair<std::string, std::string>> foucault_scene_params(const FoucaultScene& sc) {
   return {{"m", format_number(sc.m)},
           {"l", format_number(sc.l)},

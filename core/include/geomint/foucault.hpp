@@ -68,6 +68,10 @@ struct FoucaultScene {
 // The scene's physical parameters and initial data as header lines for output files.
 std::vector<std::pair<std::string, std::string>> foucault_scene_params(const FoucaultScene& sc);
 
+// Checks a sweep before anything is written: at least one h and one alpha, every h divides T, and the scene
+// is valid at every alpha (throws InputError).
+void validate_foucault_sweep(const FoucaultScene& base, const std::vector<double>& hs, const std::vector<double>& alphas);
+
 // The scalars of one run in the scalar type T. sin(beta) is evaluated in T, so a long double run is a
 // long double run of the same (double) scene, not a long double run of a rounded s.
 template <class T>
