@@ -17,9 +17,12 @@ struct InputError : std::runtime_error {
 struct NumericalFailure : std::runtime_error {
   long step;
   std::string quantity;
+  std::string detail;  // the message without the step and quantity
   NumericalFailure(long step_, std::string quantity_, const std::string& what)
       : std::runtime_error("numerical failure at step " + std::to_string(step_) + " (" + quantity_ + "): " + what),
-        step(step_), quantity(std::move(quantity_)) {}
+        step(step_), quantity(std::move(quantity_)), detail(what) {}
+  // The same failure with where it happened (system, scheme, parameters) in front of the detail.
+  NumericalFailure within(const std::string& context) const { return {step, quantity, context + ": " + detail}; }
 };
 
 // Numbers in messages as a user would type them (0.1, not 0.100000).
