@@ -9,6 +9,7 @@
 
 using namespace geomint;
 using V3 = Eigen::Vector3d;
+using systems::NonholonomicParticle;
 
 TEST_CASE("particle: every step satisfies the forced discrete EL equations and the discrete constraint",
           "[example][system]") {
