@@ -1,0 +1,373 @@
+#pragma once
+// make_system_info<Sys>(): everything the run-time registry needs about one system, instantiated once per
+// system in its own generated translation unit (see core/CMakeLists.txt and core/src/systems.def). Heavy:
+// include it only there and in tests that need the typed pieces.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <tuple>
+#include <type_traits>
+
+#include "geomint/error.hpp"
+#include "geomint/generic/fast_path.hpp"
+#include "geomint/generic/stepper.hpp"
+#include "geomint/io.hpp"
+#include "geomint/reference.hpp"
+#include "geomint/registry.hpp"
+
+namespace geomint::generic {
+
+// ---------------------------------------------------------------------------------------------------
+// Parameters by name
+
+template <class Sys>
+Sys make_system(const ParamValues& values) {
+  Sys sys;
+  for (const auto& [name, value] : values) {
+    bool found = false;
+    sys.visit([&, &name = name, value = value](const char* field, double& x, const char*) {
+      if (name == field) {
+        x = value;
+        found = true;
+      }
+    });
+    if (!found) {
+      std::string known;
+      sys.visit([&](const char* field, double&, const char*) { known += (known.empty() ? "" : ", ") + std::string(field); });
+      throw InputError(std::string("system '") + Sys::name + "' has no parameter '" + name + "' (known: " + known + ")");
+    }
+  }
+  return sys;
+}
+
+template <class Sys>
+double horizon_of(const Sys& sys) {
+  double T = std::nan("");
+  Sys copy = sys;
+  copy.visit([&](const char* field, double& x, const char*) {
+    if (std::string(field) == "T") T = x;
+  });
+  return T;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The schemes a system gets, and their closed forms
+
+using AllSchemes = std::tuple<LaLeft, ContactLeft, LaMidpoint, LaTrapezoid, ContactTrapezoid>;
+
+template <class Sys, class G>
+constexpr bool applicable() {
+  return !G::contact || has_herglotz_v<Sys>;
+}
+
+template <class Sys, class G, class Paths = typename fast_paths_of<Sys>::type>
+struct fast_for;
+template <class Sys, class G>
+struct fast_for<Sys, G, std::tuple<>> {
+  using type = void;
+};
+template <class Sys, class G, class P, class... Ps>
+struct fast_for<Sys, G, std::tuple<P, Ps...>> {
+  using type = std::conditional_t<std::is_same_v<typename P::generic, G>, typename P::closed,
+                                  typename fast_for<Sys, G, std::tuple<Ps...>>::type>;
+};
+template <class Sys, class G>
+using fast_for_t = typename fast_for<Sys, G>::type;
+
+template <class Sys>
+std::string known_schemes() {
+  std::string known;
+  std::apply([&](auto... g) {
+    ((applicable<Sys, decltype(g)>() ? (void)(known += (known.empty() ? "" : ", ") + std::string(scheme_name<decltype(g)>()))
+                                     : (void)0),
+     ...);
+  }, AllSchemes{});
+  return known;
+}
+
+// Calls f(G{}) for the applicable scheme named `name`; InputError naming the known ones otherwise.
+template <class Sys, std::size_t I = 0, class F>
+decltype(auto) visit_scheme(const std::string& name, F&& f) {
+  if constexpr (I == std::tuple_size_v<AllSchemes>) {
+    throw InputError("unknown scheme '" + name + "' for system '" + Sys::name + "' (known: " + known_schemes<Sys>() + ")");
+    return f(LaLeft{});  // not reached; gives the return type
+  } else {
+    using G = std::tuple_element_t<I, AllSchemes>;
+    if constexpr (applicable<Sys, G>()) {
+      if (name == scheme_name<G>()) return f(G{});
+    }
+    return visit_scheme<Sys, I + 1>(name, f);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Driving a run: the closed form where asked and available, else the generic stepper. The observer gets
+// the StepView of every q_j, j = 0..N, and the Newton iterations of the step into it (-1: closed form).
+
+template <class Sys, class G, class Observer>
+void drive(const Sys& sys, double h, long N, Path path, Observer&& observe) {
+  constexpr int n = Sys::dof, m = Sys::constraints;
+  using C = fast_for_t<Sys, G>;
+  if constexpr (!std::is_void_v<C>) {
+    if (path == Path::fast) {
+      sys.template run_fast<C>(h, N, [&](const auto& view) { observe(view, -1); });
+      return;
+    }
+  }
+  Stepper<Sys, G> st(sys, h);
+  st.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
+  auto emit = [&](int updates) {
+    const auto& s = st.state();
+    observe(StepView<double, n, m>{s.j, s.t, s.q, s.p, s.z, s.lambda}, updates);
+  };
+  emit(0);
+  for (long j = 0; j < N; ++j) {
+    st.step();
+    emit(st.last_updates());
+  }
+}
+
+template <class Sys, class G>
+std::string context(const Sys&, const std::string& scheme, double h, Path path) {
+  return std::string("system ") + Sys::name + ", scheme " + scheme + " (" + to_string(path) + "), h = " + show(h);
+}
+
+// The velocity whose continuous momentum is p (Newton on dL/dq' = p, the Hessian by AD; one update for a
+// quadratic kinetic energy).
+template <class Sys>
+Vec<double, Sys::dof> velocity_from_momentum(const Sys& sys, bool contact, double t, const Vec<double, Sys::dof>& q,
+                                             const Vec<double, Sys::dof>& p, double z) {
+  constexpr int n = Sys::dof;
+  using D = Dual<double, n>;
+  Vec<double, n> v = p;
+  for (int it = 0; it < 8; ++it) {
+    Vec<D, n> V;
+    for (int i = 0; i < n; ++i) V(i) = D::variable(v(i), i);
+    Vec<D, n> P;
+    if constexpr (has_herglotz_v<Sys>) {
+      if (contact)
+        P = herglotz_momentum<Sys, D>(sys, D(t), Vec<D, n>(q.template cast<D>()), V, D(z));
+      else
+        P = momentum<Sys, D>(sys, D(t), Vec<D, n>(q.template cast<D>()), V);
+    } else {
+      (void)contact;
+      (void)z;
+      P = momentum<Sys, D>(sys, D(t), Vec<D, n>(q.template cast<D>()), V);
+    }
+    Mat<double, n, n> M;
+    Vec<double, n> r;
+    for (int i = 0; i < n; ++i) {
+      r(i) = P(i).v - p(i);
+      for (int k = 0; k < n; ++k) M(i, k) = P(i).d[static_cast<std::size_t>(k)];
+    }
+    const Vec<double, n> dv = Eigen::PartialPivLU<Mat<double, n, n>>(M).solve(r);
+    v -= dv;
+    if (dv.template lpNorm<Eigen::Infinity>() <= 4e-16 * (v.template lpNorm<Eigen::Infinity>() + 1e-300)) break;
+  }
+  return v;
+}
+
+template <class Sys, class G>
+Run run_scheme(const Sys& sys, double h, Path path, long every) {
+  constexpr int n = Sys::dof, m = Sys::constraints;
+  require(every >= 1, "every must be a positive integer");
+  const long N = step_count(h, horizon_of(sys));
+  Run run;
+  run.n = n;
+  run.m = m;
+  run.contact = G::contact;
+  run.steps = N;
+  Vec<double, n> qprev = Vec<double, n>::Zero();
+  long newton_sum = 0;
+  bool closed = false;
+  try {
+    drive<Sys, G>(sys, h, N, path, [&](const StepView<double, n, m>& s, int updates) {
+      double phid = 0;
+      if constexpr (m > 0) {
+        if (s.j > 0)
+          phid = discrete_constraint<Sys, typename G::quadrature, double>(sys, s.t - h, h, qprev, s.q)
+                     .template lpNorm<Eigen::Infinity>();
+      }
+      run.max_phi_d = std::max(run.max_phi_d, phid);
+      if (updates < 0) closed = true;
+      if (s.j > 0) newton_sum += updates;
+      qprev = s.q;
+      if (s.j % every != 0 && s.j != N) return;
+      const Vec<double, n> v = velocity_from_momentum(sys, G::contact, s.t, s.q, s.p, s.z);
+      run.j.push_back(s.j);
+      run.t.push_back(s.t);
+      for (int i = 0; i < n; ++i) {
+        run.q.push_back(s.q(i));
+        run.p.push_back(s.p(i));
+        run.v.push_back(v(i));
+      }
+      run.z.push_back(s.z);
+      for (int c = 0; c < m; ++c) run.lambda.push_back(s.lambda(c));
+      run.energy.push_back(energy(sys, s.t, s.q, v));
+      double phi = 0;
+      if constexpr (m > 0) phi = constraint<Sys, double>(sys, s.t, s.q, v).template lpNorm<Eigen::Infinity>();
+      run.phi_d.push_back(phid);
+      run.phi.push_back(phi);
+      run.newton.push_back(updates);
+    });
+  } catch (const NumericalFailure& e) {
+    throw e.within(context<Sys, G>(sys, scheme_name<G>(), h, path));
+  }
+  run.newton_mean = closed ? -1 : (N > 0 ? double(newton_sum) / double(N) : 0);
+  return run;
+}
+
+template <class Sys, class G, class Metric>
+double max_over_run(const Sys& sys, double h, Path path, const Reference& ref, Metric&& metric) {
+  constexpr int n = Sys::dof, m = Sys::constraints;
+  require(ref.n == n, "reference has the wrong dimension");
+  const long N = step_count(h, horizon_of(sys));
+  double err = 0;
+  try {
+    drive<Sys, G>(sys, h, N, path, [&](const StepView<double, n, m>& s, int) {
+      const long r = ref.index(s.j, h);
+      for (int i = 0; i < n; ++i)
+        err = std::max(err, metric(i, s.q(i), ref.q[static_cast<std::size_t>(r * n + i)]));
+    });
+  } catch (const NumericalFailure& e) {
+    throw e.within(context<Sys, G>(sys, scheme_name<G>(), h, path));
+  }
+  return err;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// References
+
+template <class Sys>
+Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, double tol) {
+  constexpr int n = Sys::dof;
+  require(N >= 1, "reference needs at least one step");
+  Reference ref;
+  ref.h = h;
+  ref.N = N;
+  ref.n = n;
+  ref.q.resize(static_cast<std::size_t>((N + 1) * n));
+  if (kind == ReferenceKind::automatic) kind = has_exact_v<Sys> ? ReferenceKind::exact : ReferenceKind::odeint;
+  if (kind == ReferenceKind::exact) {
+    if constexpr (has_exact_v<Sys>) {
+      ref.kind = "closed form";
+      for (long j = 0; j <= N; ++j) {
+        const auto x = sys.template exact<double>(static_cast<double>(j) * h);
+        for (int i = 0; i < n; ++i) ref.q[static_cast<std::size_t>(j * n + i)] = x.q(i);
+      }
+      return ref;
+    } else {
+      throw InputError(std::string("system '") + Sys::name + "' has no closed-form solution (use --reference odeint)");
+    }
+  }
+  if (kind == ReferenceKind::odeint_rhs && !has_rhs_v<Sys>)
+    throw InputError(std::string("system '") + Sys::name + "' has no hand-written rhs (use --reference odeint)");
+  require(std::isfinite(tol) && tol >= 1e-15 && tol < 1, "tol must be in [1e-15, 1), got " + show(tol));
+  std::vector<double> times(static_cast<std::size_t>(N + 1));
+  for (long j = 0; j <= N; ++j) times[static_cast<std::size_t>(j)] = static_cast<double>(j) * h;
+  using State = std::array<double, 2 * n>;
+  const Vec<double, n> q0 = sys.template initial_position<double>();
+  const Vec<double, n> v0 = consistent_velocity(sys, 0.0, q0, sys.template initial_velocity<double>());
+  State x0;
+  for (int i = 0; i < n; ++i) {
+    x0[static_cast<std::size_t>(i)] = q0(i);
+    x0[static_cast<std::size_t>(n + i)] = v0(i);
+  }
+  const bool hand = kind == ReferenceKind::odeint_rhs;
+  auto rhs = [&](const State& x, State& dx, double t) {
+    Vec<double, n> q, v, a;
+    for (int i = 0; i < n; ++i) {
+      q(i) = x[static_cast<std::size_t>(i)];
+      v(i) = x[static_cast<std::size_t>(n + i)];
+    }
+    if constexpr (has_rhs_v<Sys>) {
+      if (hand)
+        sys.rhs(t, q, v, a);
+      else
+        a = acceleration(sys, t, q, v).a;
+    } else {
+      a = acceleration(sys, t, q, v).a;
+    }
+    for (int i = 0; i < n; ++i) {
+      dx[static_cast<std::size_t>(i)] = v(i);
+      dx[static_cast<std::size_t>(n + i)] = a(i);
+    }
+  };
+  const auto xs = odeint_dense<2 * n>(rhs, x0, times, tol);
+  require(xs.size() == times.size(), "reference: Odeint returned " + std::to_string(xs.size()) + " of " +
+                                         std::to_string(times.size()) + " states");
+  for (long j = 0; j <= N; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double qi = xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)];
+      if (!std::isfinite(qi)) throw NumericalFailure(j, "reference", std::string("Odeint reference of ") + Sys::name + " is not finite");
+      ref.q[static_cast<std::size_t>(j * n + i)] = qi;
+    }
+  ref.kind = std::string("Boost.Odeint dopri5, dense output, tol ") + show(tol) +
+             (hand ? ", hand-written equations" : ", equations derived from L, F, Phi by AD");
+  return ref;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The registry entry
+
+template <class Sys>
+SystemInfo make_system_info() {
+  SystemInfo info;
+  info.name = Sys::name;
+  info.description = Sys::description;
+  info.dof = Sys::dof;
+  info.constraints = Sys::constraints;
+  info.has_exact = has_exact_v<Sys>;
+  info.has_herglotz = has_herglotz_v<Sys>;
+  info.has_rhs = has_rhs_v<Sys>;
+  info.linear = is_linear<Sys>();
+  Sys defaults;
+  defaults.visit([&](const char* name, double& x, const char* doc) { info.params.push_back({name, x, doc}); });
+  std::apply([&](auto... g) {
+    (([&] {
+       using G = decltype(g);
+       if constexpr (applicable<Sys, G>()) {
+         using C = fast_for_t<Sys, G>;
+         std::string fast;
+         if constexpr (!std::is_void_v<C>) fast = C::name;
+         info.schemes.push_back({scheme_name<G>(), G::contact ? "discrete Herglotz (3), (4)" : "Lagrange-d'Alembert (1)",
+                                 G::quadrature::name, G::order, fast});
+       }
+     }()),
+     ...);
+  }, AllSchemes{});
+
+  info.validate = [](const ParamValues& pv) { make_system<Sys>(pv).validate(); };
+  info.horizon = [](const ParamValues& pv) { return horizon_of(make_system<Sys>(pv)); };
+  info.run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, long every) {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    return visit_scheme<Sys>(scheme, [&](auto g) { return run_scheme<Sys, decltype(g)>(sys, h, path, every); });
+  };
+  info.max_error = [](const ParamValues& pv, const std::string& scheme, double h, Path path, const Reference& ref) {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    return visit_scheme<Sys>(scheme, [&](auto g) {
+      return max_over_run<Sys, decltype(g)>(sys, h, path, ref, [](int, double q, double r) { return std::abs(q - r); });
+    });
+  };
+  info.max_relative_error = [](const ParamValues& pv, const std::string& scheme, double h, Path path,
+                               const Reference& ref, double shift) {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    return visit_scheme<Sys>(scheme, [&](auto g) {
+      return max_over_run<Sys, decltype(g)>(sys, h, path, ref, [shift](int i, double q, double r) {
+        return i == 0 ? std::abs((shift + q) / (shift + r) - 1) : 0.0;
+      });
+    });
+  };
+  info.reference = [](const ParamValues& pv, double h, long N, ReferenceKind kind, double tol) {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    return reference_of(sys, h, N, kind, tol);
+  };
+  return info;
+}
+
+}  // namespace geomint::generic

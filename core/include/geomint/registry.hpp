@@ -1,0 +1,100 @@
+#pragma once
+// Run-time access to every system of the generic core and every scheme built from it, by name.
+//
+// A system is one header under core/include/geomint/systems/ plus one line in core/src/systems.def; the
+// build then compiles that system's schemes, references and runners once, in a translation unit of its own
+// (generated from systems.def), and every program that takes --system finds it here. Nothing else changes.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace geomint {
+
+// A parameter of a system (its fields: physical constants, initial data, horizon T).
+struct ParamInfo {
+  std::string name;
+  double value;  // the default
+  std::string doc;
+};
+// Values that override a system's defaults, by name (unknown names are an InputError).
+using ParamValues = std::vector<std::pair<std::string, double>>;
+
+// Which implementation runs a scheme: the hand-derived closed form where the system has one for it
+// (the default: the paper's bits), or the generic Newton step built from the Lagrangian.
+enum class Path { fast, generic };
+Path parse_path(const std::string& name);
+const char* to_string(Path p);
+
+struct SchemeInfo {
+  std::string name;        // la, contact, la-midpoint, la-trapezoid, contact-trapezoid
+  std::string principle;   // "Lagrange-d'Alembert (1)" or "discrete Herglotz (3)"
+  std::string quadrature;  // left, midpoint, trapezoid
+  int order;               // expected order of convergence
+  std::string fast_path;   // the closed form that specializes it on this system ("" if none)
+  std::string description() const;
+};
+
+// A run as tidy columns, decimated to every k-th step (always including the first and the last).
+struct Run {
+  int n = 0, m = 0;
+  bool contact = false;
+  std::vector<long> j;
+  std::vector<double> t;
+  std::vector<double> q, p, v;   // rows of n: positions, discrete momenta p_j, velocities from p_j (continuous Legendre)
+  std::vector<double> z;         // the Herglotz action (contact schemes; 0 otherwise)
+  std::vector<double> lambda;    // rows of m: the impulse of the step into q_j (0 at j = 0)
+  std::vector<double> energy;    // E(t_j, q_j, v_j)
+  std::vector<double> phi_d;     // max_c |Phi_d^c(q_{j-1}, q_j)| (0 at j = 0): what the scheme imposes
+  std::vector<double> phi;       // max_c |Phi^c(t_j, q_j, v_j)|: the continuous constraint at the discrete state
+  std::vector<int> newton;       // Newton iterations of the step into q_j (generic path; -1 for a closed form)
+  long steps = 0;
+  double newton_mean = -1;       // mean Newton iterations per step over the whole run (-1: closed form)
+  double max_phi_d = 0;          // over every step, not only the kept ones
+};
+
+// A reference solution on the grid t_j = j h, j = 0..N.
+struct Reference {
+  std::string kind;  // what it is ("closed form", "Boost.Odeint dopri5 ... tol ...")
+  double h = 0;
+  long N = 0;
+  int n = 0;
+  std::vector<double> q;  // rows of n
+  // Row index of t = j * h_coarse on this grid (h_coarse a multiple of h); throws InputError otherwise.
+  long index(long j, double h_coarse) const;
+};
+enum class ReferenceKind { automatic, exact, odeint, odeint_rhs };
+ReferenceKind parse_reference(const std::string& name);
+
+struct SystemInfo {
+  std::string name, description;
+  int dof = 0, constraints = 0;
+  bool has_exact = false, has_herglotz = false, has_rhs = false, linear = false;
+  std::vector<ParamInfo> params;
+  std::vector<SchemeInfo> schemes;
+
+  // Operations on this system (function pointers into its generated translation unit).
+  void (*validate)(const ParamValues&) = nullptr;  // InputError naming the first bad value
+  double (*horizon)(const ParamValues&) = nullptr; // T
+  // N = T/h steps of `scheme`, keeping every `every`-th step.
+  Run (*run)(const ParamValues&, const std::string& scheme, double h, Path, long every) = nullptr;
+  // max_j |q_j - q_ref(t_j)| (max norm over components) without storing the run.
+  double (*max_error)(const ParamValues&, const std::string& scheme, double h, Path, const Reference&) = nullptr;
+  // max_j |(shift + q_j)/(shift + q_ref(t_j)) - 1| (the paper's regularized relative error, component 0).
+  double (*max_relative_error)(const ParamValues&, const std::string& scheme, double h, Path, const Reference&,
+                               double shift) = nullptr;
+  // The reference on t_j = j h, j = 0..N: the closed form, or Boost.Odeint (dopri5, dense output, tolerance
+  // tol) on the equations derived from L, F and Phi by automatic differentiation (odeint) or on the system's
+  // hand-written rhs (odeint_rhs).
+  Reference (*reference)(const ParamValues&, double h, long N, ReferenceKind, double tol) = nullptr;
+
+  const SchemeInfo& scheme(const std::string& name) const;  // InputError naming the known ones
+  std::vector<std::string> scheme_names() const;
+  // The header lines of an output file: every parameter with its value.
+  std::vector<std::pair<std::string, std::string>> header(const ParamValues&) const;
+};
+
+const std::vector<SystemInfo>& all_systems();
+const SystemInfo& find_system(const std::string& name);  // InputError naming the known ones
+std::vector<std::string> system_names();
+
+}  // namespace geomint

@@ -1,0 +1,94 @@
+#include "geomint/registry.hpp"
+
+#include <cmath>
+
+#include "geomint/error.hpp"
+#include "geomint/io.hpp"
+
+namespace geomint {
+
+// One declaration per line of systems.def; each is defined in the system's generated translation unit.
+#define GEOMINT_SYSTEM(header, Type) SystemInfo make_system_info_##Type();
+#include "systems.def"
+#undef GEOMINT_SYSTEM
+
+const std::vector<SystemInfo>& all_systems() {
+  static const std::vector<SystemInfo> all = {
+#define GEOMINT_SYSTEM(header, Type) make_system_info_##Type(),
+#include "systems.def"
+#undef GEOMINT_SYSTEM
+  };
+  return all;
+}
+
+std::vector<std::string> system_names() {
+  std::vector<std::string> names;
+  for (const auto& s : all_systems()) names.push_back(s.name);
+  return names;
+}
+
+const SystemInfo& find_system(const std::string& name) {
+  for (const auto& s : all_systems())
+    if (s.name == name) return s;
+  std::string known;
+  for (const auto& s : all_systems()) known += (known.empty() ? "" : ", ") + s.name;
+  throw InputError("unknown system '" + name + "' (known: " + known + ")");
+}
+
+const SchemeInfo& SystemInfo::scheme(const std::string& scheme_name) const {
+  for (const auto& s : schemes)
+    if (s.name == scheme_name) return s;
+  std::string known;
+  for (const auto& s : schemes) known += (known.empty() ? "" : ", ") + s.name;
+  throw InputError("unknown scheme '" + scheme_name + "' for system '" + name + "' (known: " + known + ")");
+}
+
+std::vector<std::string> SystemInfo::scheme_names() const {
+  std::vector<std::string> names;
+  for (const auto& s : schemes) names.push_back(s.name);
+  return names;
+}
+
+std::vector<std::pair<std::string, std::string>> SystemInfo::header(const ParamValues& values) const {
+  std::vector<std::pair<std::string, std::string>> out{{"system", name}};
+  for (const auto& p : params) {
+    double v = p.value;
+    for (const auto& [k, x] : values)
+      if (k == p.name) v = x;
+    out.emplace_back(p.name, format_number(v));
+  }
+  return out;
+}
+
+std::string SchemeInfo::description() const {
+  return principle + ", " + quadrature + " quadrature, order " + std::to_string(order) +
+         (fast_path.empty() ? "" : "; closed form: " + fast_path);
+}
+
+Path parse_path(const std::string& name) {
+  if (name == "fast") return Path::fast;
+  if (name == "generic") return Path::generic;
+  throw InputError("unknown path '" + name + "' (known: fast generic)");
+}
+
+const char* to_string(Path p) { return p == Path::fast ? "fast" : "generic"; }
+
+ReferenceKind parse_reference(const std::string& name) {
+  if (name == "auto") return ReferenceKind::automatic;
+  if (name == "exact") return ReferenceKind::exact;
+  if (name == "odeint") return ReferenceKind::odeint;
+  if (name == "odeint-rhs") return ReferenceKind::odeint_rhs;
+  throw InputError("unknown reference '" + name + "' (known: auto exact odeint odeint-rhs)");
+}
+
+long Reference::index(long j, double h_coarse) const {
+  const double ratio = h_coarse / h;
+  const long k = std::lround(ratio);
+  require(k >= 1 && std::abs(ratio - static_cast<double>(k)) <= 1e-9 * ratio,
+          "h = " + show(h_coarse) + " is not a multiple of the reference step " + show(h));
+  const long r = j * k;
+  require(r <= N, "t = " + show(static_cast<double>(j) * h_coarse) + " is beyond the reference horizon");
+  return r;
+}
+
+}  // namespace geomint
