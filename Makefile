@@ -11,6 +11,17 @@ CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WE
 # Every figure and table with the paper's defaults, in this order.
 FIGURES   := fig1_oscillator convergence_oscillator backward_error work_precision stability_oscillator fig2_foucault convergence_foucault anomaly_foucault work_precision_foucault
 
+# Figures of the generic core's systems: one "program arguments..." per line.
+define FIGURE_COMMANDS
+convergence --system pendulum
+regularized_error --system forced-oscillator --alpha 0.01 0.1 1 2
+convergence --system forced-oscillator --alpha 0.01 0.1 1 2
+convergence --system knife-edge
+integrate --system knife-edge --scheme la
+integrate --system knife-edge --scheme contact-trapezoid
+endef
+export FIGURE_COMMANDS
+
 .PHONY: all deps build figures test bench sanitize clean
 
 all: build
@@ -44,6 +55,13 @@ figures: build
 	  t1=$$(date +%s.%N); \
 	  awk -v f=$$f -v a=$$t0 -v b=$$t1 'BEGIN { printf "== %s took %.2f s\n\n", f, b - a }'; \
 	done; \
+	printf '%s\n' "$$FIGURE_COMMANDS" | while read -r f args; do \
+	  t0=$$(date +%s.%N); \
+	  echo "== $$f $$args"; \
+	  $(BUILD)/experiments/$$f $$args --out $(OUT) || { echo "$$f $$args failed"; exit 1; }; \
+	  t1=$$(date +%s.%N); \
+	  awk -v f="$$f $$args" -v a=$$t0 -v b=$$t1 'BEGIN { printf "== %s took %.2f s\n\n", f, b - a }'; \
+	done || exit 1; \
 	awk -v a=$$total0 -v b=$$(date +%s.%N) 'BEGIN { printf "All figures in $(OUT)/ (%.1f s after the build)\n", b - a }'
 
 test: build

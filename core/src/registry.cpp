@@ -81,6 +81,15 @@ ReferenceKind parse_reference(const std::string& name) {
   throw InputError("unknown reference '" + name + "' (known: auto exact odeint odeint-rhs)");
 }
 
+void check_reference(const SystemInfo& sys, ReferenceKind kind, double tol) {
+  if (kind == ReferenceKind::exact)
+    require(sys.has_exact, "system '" + sys.name + "' has no closed-form solution (use --reference odeint)");
+  if (kind == ReferenceKind::odeint_rhs)
+    require(sys.has_rhs, "system '" + sys.name + "' has no hand-written rhs (use --reference odeint)");
+  if (kind == ReferenceKind::odeint || kind == ReferenceKind::odeint_rhs || (kind == ReferenceKind::automatic && !sys.has_exact))
+    require(std::isfinite(tol) && tol >= 1e-15 && tol < 1, "tol must be in [1e-15, 1), got " + show(tol));
+}
+
 long Reference::index(long j, double h_coarse) const {
   const double ratio = h_coarse / h;
   const long k = std::lround(ratio);

@@ -66,7 +66,8 @@ std::string style_for(const std::string& scheme, const std::string& with) {
   static const std::vector<std::pair<std::string, std::string>> colors = {
       {"la", "#d95f02"},          {"la-printed", "#7570b3"},  {"contact", "#1b9e77"},
       {"leapfrog", "#666666"},    {"leapfrog-ref", "#222222"}, {"contact-sym", "#66a61e"},
-      {"la-nh", "#d95f02"},       {"contact-nh", "#1b9e77"},   {"reference", "#222222"}};
+      {"la-nh", "#d95f02"},       {"contact-nh", "#1b9e77"},   {"reference", "#222222"},
+      {"la-midpoint", "#e7298a"}, {"la-trapezoid", "#666666"}, {"contact-trapezoid", "#66a61e"}};
   for (const auto& [n, c] : colors)
     if (n == scheme) return with + " lw 1.5 lc rgb '" + c + "'";
   return with + " lw 1.5";

@@ -93,6 +93,9 @@ struct SystemInfo {
   std::vector<std::pair<std::string, std::string>> header(const ParamValues&) const;
 };
 
+// Refuses a reference the system cannot give (or a tolerance out of range) before any work starts.
+void check_reference(const SystemInfo& sys, ReferenceKind kind, double tol);
+
 const std::vector<SystemInfo>& all_systems();
 const SystemInfo& find_system(const std::string& name);  // InputError naming the known ones
 std::vector<std::string> system_names();

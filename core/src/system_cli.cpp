@@ -1,0 +1,96 @@
+#include "geomint/system_cli.hpp"
+
+#include <cstring>
+
+#include "geomint/error.hpp"
+#include "geomint/io.hpp"
+
+namespace geomint {
+
+namespace {
+// --system X or --system=X in argv (the last one wins, as program_options would refuse a repeat later).
+std::string find_system_arg(int argc, char** argv, const std::string& fallback) {
+  std::string name = fallback;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--system") == 0 && i + 1 < argc) name = argv[i + 1];
+    if (std::strncmp(argv[i], "--system=", 9) == 0) name = argv[i] + 9;
+  }
+  return name;
+}
+}  // namespace
+
+SystemOptions::SystemOptions(Cli& cli, int argc, char** argv, const std::string& default_system, bool sweep)
+    : sweep_(sweep) {
+  system_ = &find_system(find_system_arg(argc, argv, default_system));
+  given_.resize(system_->params.size());
+  std::string known;
+  for (const auto& s : system_names()) known += (known.empty() ? "" : " ") + s;
+  cli.options.add_options()("system", po::value<std::string>()->default_value(default_system),
+                            ("the system (" + known + ")").c_str());
+  po::options_description sys_opts("Parameters of system '" + system_->name + "' (" + system_->description +
+                                   (sweep ? "; several values sweep" : "") + ")");
+  for (std::size_t i = 0; i < system_->params.size(); ++i) {
+    const auto& p = system_->params[i];
+    // multitoken even when not sweeping, so a second value is an error here rather than a stray word
+    auto* v = po::value(&given_[i])->multitoken();
+    sys_opts.add_options()(p.name.c_str(), v, (p.doc + " (default " + format_number(p.value) + ")").c_str());
+  }
+  cli.options.add(sys_opts);
+}
+
+std::vector<std::string> SystemOptions::swept() const {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < given_.size(); ++i)
+    if (given_[i].size() > 1) out.push_back(system_->params[i].name);
+  return out;
+}
+
+std::vector<ParamValues> SystemOptions::combinations() const {
+  std::vector<ParamValues> combos{{}};
+  for (std::size_t i = 0; i < given_.size(); ++i) {
+    const auto& vals = given_[i];
+    if (vals.empty()) continue;
+    require(sweep_ || vals.size() == 1, "--" + system_->params[i].name + " takes one value");
+    std::vector<ParamValues> next;
+    for (const auto& c : combos)
+      for (double v : vals) {
+        ParamValues pv = c;
+        pv.emplace_back(system_->params[i].name, v);
+        next.push_back(std::move(pv));
+      }
+    combos = std::move(next);
+  }
+  require(combos.size() <= 10000, "the sweep has " + std::to_string(combos.size()) + " combinations (limit 10000)");
+  for (const auto& c : combos) system_->validate(c);
+  return combos;
+}
+
+ParamValues SystemOptions::values() const {
+  const auto c = combinations();
+  require(c.size() == 1, "give one value per parameter");
+  return c.front();
+}
+
+std::vector<std::pair<std::string, std::string>> SystemOptions::header() const {
+  std::vector<std::pair<std::string, std::string>> out{{"system", system_->name}};
+  for (std::size_t i = 0; i < given_.size(); ++i)
+    out.emplace_back(system_->params[i].name,
+                     given_[i].empty() ? format_number(system_->params[i].value) : format_list(given_[i]));
+  return out;
+}
+
+std::vector<std::string> SystemOptions::schemes(const std::vector<std::string>& asked) const {
+  if (asked.empty()) return system_->scheme_names();
+  for (const auto& s : asked) system_->scheme(s);  // InputError naming the known ones
+  return asked;
+}
+
+double param_value(const ParamValues& pv, const SystemInfo& sys, const std::string& name) {
+  for (const auto& [k, v] : pv)
+    if (k == name) return v;
+  for (const auto& p : sys.params)
+    if (p.name == name) return p.value;
+  throw InputError("no parameter '" + name + "'");
+}
+
+}  // namespace geomint

@@ -1,0 +1,130 @@
+// Convergence of every scheme built from a system (or those named), against the system's reference: the
+// closed form where it has one, else Boost.Odeint on the equations derived from its Lagrangian.
+//   convergence --system pendulum [--schemes la contact ...] [--h-max 0.1] [--h-min 0.003] [--path fast|generic]
+//               [--reference auto|exact|odeint|odeint-rhs] [--tol 1e-13] [--alpha 0.05 0.1 ...: a sweep]
+// err_max = max_j |q_j - q_ref(t_j)| (max norm over the components), h halving from h-max to <= h-min.
+// Writes out/<system>_convergence.tsv (one row per scheme, parameter combination and h), ..._fits.tsv
+// (least-squares order per scheme and combination) and ....{png,pdf} (a panel per combination).
+#include <cmath>
+#include <cstdio>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/io.hpp"
+#include "geomint/plots/figure.hpp"
+#include "geomint/study.hpp"
+#include "geomint/system_cli.hpp"
+
+using namespace geomint;
+
+int main(int argc, char** argv) {
+  return guarded_main("convergence", [&] {
+    Cli cli("convergence", "error against h of every scheme of a system, with fitted orders");
+    SystemOptions sysopt(cli, argc, argv, "pendulum", true);
+    double h_max = 0.1, h_min = 0.003, tol = 1e-13;
+    std::vector<std::string> names;
+    std::string path_name = "fast", ref_name = "auto";
+    cli.options.add_options()("h-max", po::value(&h_max)->default_value(h_max, "0.1"), "largest step")(
+        "h-min", po::value(&h_min)->default_value(h_min, "0.003"), "halve until h <= h-min")(
+        "schemes", po::value(&names)->multitoken(), "schemes (default: every scheme of the system)")(
+        "path", po::value(&path_name)->default_value(path_name), "fast (closed forms where they exist) or generic")(
+        "reference", po::value(&ref_name)->default_value(ref_name),
+        "auto (closed form if any, else odeint), exact, odeint (equations from L by AD), odeint-rhs (hand-written)")(
+        "tol", po::value(&tol)->default_value(tol, "1e-13"), "Odeint tolerance of the reference");
+    if (!cli.parse(argc, argv)) return 0;
+    const SystemInfo& sys = sysopt.system();
+    const auto combos = sysopt.combinations();
+    const auto swept = sysopt.swept();
+    const auto schemes = sysopt.schemes(names);
+    const Path path = parse_path(path_name);
+    const ReferenceKind ref_kind = parse_reference(ref_name);
+    check_reference(sys, ref_kind, tol);
+    const auto hs = halving_sequence(h_max, h_min);
+    for (const auto& pv : combos)
+      for (double h : hs) step_count(h, sys.horizon(pv));
+    const auto dir = prepare_output_dir(cli.out);
+    const std::string stem = sys.name + "_convergence";
+
+    Params params = sysopt.header();
+    params.insert(params.end(), {{"h", format_list(hs)}, {"path", to_string(path)}, {"reference", ref_name},
+                                 {"tol", format_number(tol)},
+                                 {"error", "max_j max_i |q_i(t_j) - q_ref,i(t_j)|"}});
+    std::vector<std::string> cols{"system", "scheme"};
+    cols.insert(cols.end(), swept.begin(), swept.end());
+    std::vector<std::string> fit_cols = cols;
+    cols.insert(cols.end(), {"h", "steps", "err_max", "order"});
+    fit_cols.insert(fit_cols.end(), {"fitted_order", "points", "expected_order"});
+    TsvWriter tsv(dir / (stem + ".tsv"), "convergence", params, cols);
+    TsvWriter fits(dir / (stem + "_fits.tsv"), "convergence", params, fit_cols);
+    std::printf("%s, reference: ", sys.name.c_str());
+    for (const auto& pv : combos) {
+      const double T = sys.horizon(pv);
+      const Reference ref = sys.reference(pv, hs.back(), step_count(hs.back(), T), ref_kind, tol);
+      if (&pv == &combos.front()) std::printf("%s\n", ref.kind.c_str());
+      std::vector<std::string> key;
+      std::string label;
+      for (const auto& s : swept) {
+        key.push_back(format_number(param_value(pv, sys, s)));
+        label += (label.empty() ? "" : ", ") + s + " = " + key.back();
+      }
+      for (const auto& name : schemes) {
+        std::vector<double> errs;
+        for (double h : hs) {
+          double e;
+          try {
+            e = sys.max_error(pv, name, h, path, ref);
+          } catch (const NumericalFailure& f) {
+            std::fprintf(stderr, "convergence: %s (recorded as a missing value)\n", f.what());
+            e = std::nan("");
+          }
+          errs.push_back(e);
+        }
+        const auto orders = observed_orders(hs, errs);
+        std::vector<std::string> row{sys.name, name};
+        row.insert(row.end(), key.begin(), key.end());
+        for (std::size_t i = 0; i < hs.size(); ++i) {
+          auto r = row;
+          r.insert(r.end(), {format_number(hs[i]), std::to_string(step_count(hs[i], T)), format_number(errs[i]),
+                             format_number(orders[i])});
+          tsv.write_row(r);
+        }
+        const auto fit = fit_order(hs, errs);
+        auto r = row;
+        r.insert(r.end(), {format_number(fit.slope), std::to_string(fit.points), std::to_string(sys.scheme(name).order)});
+        fits.write_row(r);
+        std::printf("  %-20s %-24s fitted order %6.3f  err(h=%g) = %.3e\n", name.c_str(), label.c_str(), fit.slope,
+                    hs.front(), errs.front());
+      }
+    }
+    tsv.commit();
+    fits.commit();
+
+    const auto t = plots::read_tsv(dir / (stem + ".tsv"));
+    plots::Figure fig;
+    fig.title = sys.name + ": max_j |q_j - q(t_j)| against h";
+    fig.cols = static_cast<int>(std::min<std::size_t>(combos.size(), 4));
+    fig.rows = static_cast<int>((combos.size() + 3) / 4);
+    fig.width_in = 4.4 * fig.cols;
+    fig.height_in = 4.2 * fig.rows;
+    for (const auto& pv : combos) {
+      auto same = [&](std::size_t r) {
+        for (const auto& s : swept)
+          if (t.number(r, s) != param_value(pv, sys, s)) return false;
+        return true;
+      };
+      std::string title;
+      for (const auto& s : swept) title += (title.empty() ? "" : ", ") + s + " = " + format_number(param_value(pv, sys, s));
+      plots::Panel p;
+      p.setup = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'h'\nset ylabel 'max error in q'\n"
+                "set key bottom right font ',8'\nset title '" + (title.empty() ? sys.name : title) + "'\n";
+      for (const auto& name : schemes) {
+        auto keep = [&](std::size_t r) { return t.text(r, "scheme") == name && same(r); };
+        const auto x = t.numbers("h", keep), y = t.numbers("err_max", keep);
+        p.series.push_back({x, y, plots::slope_label(name, fit_order(x, y).slope), plots::style_for(name, "linespoints")});
+      }
+      fig.panels.push_back(std::move(p));
+    }
+    fig.draw(dir / stem);
+    return 0;
+  });
+}
