@@ -19,6 +19,7 @@ convergence --system forced-oscillator --alpha 0.01 0.1 1 2
 convergence --system knife-edge
 integrate --system knife-edge --scheme la
 integrate --system knife-edge --scheme contact-trapezoid
+work_precision --system pendulum
 endef
 export FIGURE_COMMANDS
 

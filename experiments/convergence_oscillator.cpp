@@ -19,14 +19,14 @@ int main(int argc, char** argv) {
   return guarded_main("convergence_oscillator", [&] {
     double h_max = 0.2, h_min = 0.003, T = 50, q0 = -0.25, p0 = 0.75;
     std::vector<double> alphas{0.01, 0.1, 1};
-    std::vector<std::string> names{"la", "contact", "la-printed", "leapfrog", "la-midpoint", "contact-sym"};
+    std::vector<std::string> names = oscillator_defaults("convergence");
     Cli cli("convergence_oscillator", "error against h of the oscillator schemes, with fitted orders");
     cli.options.add_options()("h-max", po::value(&h_max)->default_value(h_max), "largest step")(
         "h-min", po::value(&h_min)->default_value(h_min), "halve until h <= h-min")(
         "T", po::value(&T)->default_value(T), "horizon")("q0", po::value(&q0)->default_value(q0), "initial position")(
         "p0", po::value(&p0)->default_value(p0), "initial momentum")(
         "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "0.01 0.1 1"), "damping values")(
-        "schemes", po::value(&names)->multitoken()->default_value(names, "la contact la-printed leapfrog la-midpoint contact-sym"),
+        "schemes", po::value(&names)->multitoken()->default_value(names, join_names(names)),
         "schemes");
     if (!cli.parse(argc, argv)) return 0;
 

@@ -22,13 +22,13 @@ int main(int argc, char** argv) {
     double h = 0.1, T = 50, q0 = -0.25, p0 = 0.75, shift = 10;
     int ref_factor = 10;
     std::vector<double> alphas{0.01, 0.1};
-    std::vector<std::string> names{"la", "la-printed", "contact"};
+    std::vector<std::string> names = oscillator_defaults("fig1");
     Cli cli("fig1_oscillator", "Figure 1: damped oscillator, LA vs contact, relative error against leapfrog at h/10");
     cli.options.add_options()("h", po::value(&h)->default_value(h), "step size")(
         "T", po::value(&T)->default_value(T), "horizon")("q0", po::value(&q0)->default_value(q0), "initial position")(
         "p0", po::value(&p0)->default_value(p0), "initial momentum")(
         "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "0.01 0.1"), "damping values")(
-        "schemes", po::value(&names)->multitoken()->default_value(names, "la la-printed contact"), "schemes to compare")(
+        "schemes", po::value(&names)->multitoken()->default_value(names, join_names(names)), "schemes to compare")(
         "ref-factor", po::value(&ref_factor)->default_value(ref_factor), "reference leapfrog runs at h/ref-factor")(
         "shift", po::value(&shift)->default_value(shift), "shift s of the regularized relative error");
     if (!cli.parse(argc, argv)) return 0;

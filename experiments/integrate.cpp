@@ -74,9 +74,10 @@ int main(int argc, char** argv) {
       tsv.write_row(cells);
     }
     tsv.commit();
-    std::printf("%s, %s (%s path), h = %g, %ld steps: E(0) = %.10g, E(T) = %.10g, max |Phi_d| = %.3g, "
+    std::printf("%s, %s (%s), h = %g, %ld steps: E(0) = %.10g, E(T) = %.10g, max |Phi_d| = %.3g, "
                 "Newton iterations per step %s\n",
-                sys.name.c_str(), sc.name.c_str(), to_string(path), h, N, run.energy.front(), run.energy.back(),
+                sys.name.c_str(), sc.name.c_str(),
+                path == Path::fast && !sc.fast_path.empty() ? ("closed form " + sc.fast_path).c_str() : "generic", h, N, run.energy.front(), run.energy.back(),
                 run.max_phi_d, run.newton_mean < 0 ? "- (closed form)" : format_number(run.newton_mean).c_str());
 
     // The figure, from the saved table.

@@ -1,11 +1,15 @@
-// Work–precision diagram for the damped oscillator (T = 50): max-norm error in q against the closed-form
-// solution, versus CPU time. Fixed-step methods are swept over h, adaptive ones (Odeint dopri5 and
+// Work–precision diagram: max-norm error in q against CPU time. With the default --system oscillator it is the
+// paper's damped oscillator (T = 50) against the closed-form solution, its schemes from the oscillator registry;
+// with any other --system, every scheme built from that system against its reference (closed form or a tight
+// Odeint solution), with Odeint baselines on the equations derived from its Lagrangian (rk4 over h; dopri5 and
+// Bulirsch–Stoer with dense output over tolerances, their errors taken at the reference grid). Fixed-step methods are swept over h, adaptive ones (Odeint dopri5 and
 // Bulirsch–Stoer, GSL rk8pd) over tolerance; adaptive errors are the max over the steps each method chose
 // (no forced output grid, which would cap their step size). Each time is the median of repeated runs
 // after a warm-up.
 //   work_precision [--alpha 0.01 0.1 1] [--reps 5] [--out out]
+//   work_precision --system pendulum [--schemes ...] [--h-max 0.1] [--h-min 1e-3] [--reps 5] [parameters]
 // Writes out/work_precision.tsv (errors: reproducible), out/work_precision_timings.tsv (timings) and
-// out/work_precision.{png,pdf}.
+// out/work_precision.{png,pdf}; for another system, out/<system>_work_precision{,_timings}.tsv and a figure.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -19,7 +23,8 @@
 #include "geomint/error.hpp"
 #include "geomint/integrate.hpp"
 #include "geomint/io.hpp"
-#include "geomint/oscillator_schemes.hpp"
+#include "geomint/oscillator_registry.hpp"
+#include "geomint/system_cli.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 #include "geomint/timing.hpp"
@@ -37,26 +42,14 @@ struct Point {
   TimingStats time;
 };
 
-const double T = 50, q0 = -0.25, p0 = 0.75;
+// The oscillator's scene (the paper's; --q0, --p0, --T change it).
+double T = 50, q0 = -0.25, p0 = 0.75;
 
-template <class S>
-Point fixed_step(const std::string& name, double alpha, double h, int reps) {
-  const long N = step_count(h, T);
-  double err = 0;
-  {
-    OscState<double> s{q0, p0, 0};
-    integrate_const<S>(s, h, N, alpha, [&](long j, const OscState<double>& x) {
-      err = std::max(err, std::abs(x.q - oscillator_exact(alpha, q0, p0, static_cast<double>(j) * h).q));
-    });
-  }
-  const auto t = time_per_call(
-      [&] {
-        OscState<double> s{q0, p0, 0};
-        integrate_const<S>(s, h, N, alpha, [](long, const OscState<double>&) {});
-        do_not_optimize(s.q);
-      },
-      reps);
-  return {name, "h", alpha, h, err, N, t};
+Point fixed_step(const OscillatorSchemeInfo& scheme, double alpha, double h, int reps) {
+  const OscillatorScene scene{alpha, q0, p0, T};
+  const double err = scheme.max_error(scene, h);
+  const auto t = time_per_call([&] { do_not_optimize(scheme.integrate(scene, h)); }, reps);
+  return {scheme.name, "h", alpha, h, err, step_count(h, T), t};
 }
 
 Point odeint_rk4(double alpha, double h, int reps) {
@@ -132,16 +125,37 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
 
 }  // namespace
 
+int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const std::vector<std::string>& names,
+                           double h_max, double h_min, int reps);
+
 int main(int argc, char** argv) {
   return guarded_main("work_precision", [&] {
-    std::vector<double> alphas{0.01, 0.1, 1};
     int reps = 5;
-    Cli cli("work_precision", "error against CPU time for the oscillator: geomint schemes and Odeint/GSL baselines");
-    cli.options.add_options()("alpha", po::value(&alphas)->multitoken()->default_value(alphas, "0.01 0.1 1"),
-                              "damping values")("reps", po::value(&reps)->default_value(reps), "timed repetitions");
+    double h_max = 0.1, h_min = 1e-3;
+    std::vector<std::string> names;
+    Cli cli("work_precision", "error against CPU time: geomint schemes and Odeint/GSL baselines");
+    SystemOptions sysopt(cli, argc, argv, "oscillator", true);
+    cli.options.add_options()("reps", po::value(&reps)->default_value(reps), "timed repetitions")(
+        "schemes", po::value(&names)->multitoken(), "schemes (other systems; default: every scheme of the system)")(
+        "h-max", po::value(&h_max)->default_value(h_max, "0.1"), "largest step (other systems)")(
+        "h-min", po::value(&h_min)->default_value(h_min, "1e-3"), "halve until h <= h-min (other systems)");
     if (!cli.parse(argc, argv)) return 0;
-    for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
     require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
+    const auto combos = sysopt.combinations();
+    if (sysopt.system().name != "oscillator") return generic_work_precision(cli, sysopt, names, h_max, h_min, reps);
+    // The paper's oscillator: alpha 0.01, 0.1, 1 unless given; the schemes of the oscillator registry.
+    require(names.empty(), "work_precision on the oscillator compares the registry's schemes (drop --schemes)");
+    std::vector<double> alphas;
+    for (const auto& pv : combos) alphas.push_back(param_value(pv, sysopt.system(), "alpha"));
+    if (sysopt.swept().empty() && combos.front().end() == std::find_if(combos.front().begin(), combos.front().end(),
+                                                                        [](const auto& kv) { return kv.first == "alpha"; }))
+      alphas = {0.01, 0.1, 1};
+    q0 = param_value(combos.front(), sysopt.system(), "q0");
+    p0 = param_value(combos.front(), sysopt.system(), "p0");
+    T = param_value(combos.front(), sysopt.system(), "T");
+    require(sysopt.swept().empty() || sysopt.swept() == std::vector<std::string>{"alpha"},
+            "work_precision on the oscillator sweeps alpha only");
+    for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
     const auto dir = prepare_output_dir(cli.out);
 
     const auto hs = halving_sequence(0.2, 2e-4);
@@ -150,11 +164,8 @@ int main(int argc, char** argv) {
     for (double a : alphas) {
       std::fprintf(stderr, "work_precision: alpha = %g ...\n", a);
       for (double h : hs) {
-        pts.push_back(fixed_step<schemes::La>("la", a, h, reps));
-        pts.push_back(fixed_step<schemes::Contact>("contact", a, h, reps));
-        pts.push_back(fixed_step<schemes::LaMidpoint>("la-midpoint", a, h, reps));
-        pts.push_back(fixed_step<schemes::ContactSymmetric>("contact-sym", a, h, reps));
-        pts.push_back(fixed_step<schemes::Leapfrog>("leapfrog", a, h, reps));
+        for (const auto& name : oscillator_defaults("work_precision"))
+          pts.push_back(fixed_step(find_oscillator_scheme(name), a, h, reps));
         pts.push_back(odeint_rk4(a, h, reps));
       }
       for (double tol : tols) {
@@ -166,7 +177,7 @@ int main(int argc, char** argv) {
         pts.push_back(gsl_rk8pd(a, tol, reps));
       }
     }
-    const Params params{{"alpha", format_list(alphas)}, {"T", "50"}, {"q0", "-0.25"}, {"p0", "0.75"},
+    const Params params{{"alpha", format_list(alphas)}, {"T", format_number(T)}, {"q0", format_number(q0)}, {"p0", format_number(p0)},
                         {"h", format_list(hs)}, {"tol", format_list(tols)}, {"reps", std::to_string(reps)}};
     TsvWriter data(dir / "work_precision.tsv", "work_precision", params,
                    {"method", "alpha", "knob", "value", "steps", "err_max"});
@@ -204,7 +215,7 @@ int main(int argc, char** argv) {
     }
 
     plots::Figure fig;
-    fig.title = "Damped oscillator, T = 50: max error in q against CPU time (median)";
+    fig.title = "Damped oscillator, T = " + format_number(T) + ": max error in q against CPU time (median)";
     fig.cols = static_cast<int>(alphas.size());
     fig.width_in = 4.6 * fig.cols;
     fig.height_in = 4.6;
@@ -222,4 +233,137 @@ int main(int argc, char** argv) {
     fig.draw(dir / "work_precision");
     return 0;
   });
+}
+
+// Any other system: every scheme built from it over h, Odeint baselines on its AD-derived equations.
+int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const std::vector<std::string>& names,
+                           double h_max, double h_min, int reps) {
+  const SystemInfo& sys = sysopt.system();
+  const ParamValues pv = sysopt.values();
+  const auto schemes = sysopt.schemes(names);
+  const double Tsys = sys.horizon(pv);
+  const auto hs = halving_sequence(h_max, h_min);
+  for (double h : hs) step_count(h, Tsys);
+  const std::vector<double> tols{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
+  const auto dir = prepare_output_dir(cli.out);
+  const double h_ref = hs.back();
+  const long N_ref = step_count(h_ref, Tsys);
+  const Reference ref = sys.reference(pv, h_ref, N_ref, ReferenceKind::automatic, 1e-13);
+  std::fprintf(stderr, "work_precision: %s, reference %s\n", sys.name.c_str(), ref.kind.c_str());
+  const int n = sys.dof;
+  std::vector<Point> pts;
+  for (const auto& name : schemes)
+    for (double h : hs) {
+      Point p{name, "h", std::nan(""), h, std::nan(""), step_count(h, Tsys), {std::nan(""), std::nan(""), std::nan(""), reps}};
+      try {
+        p.err = sys.max_error(pv, name, h, Path::fast, ref);
+        const double sec = sys.seconds_per_run(pv, name, h, Path::fast, reps);
+        p.time = {sec, sec, sec, reps};
+      } catch (const NumericalFailure& f) {
+        std::fprintf(stderr, "work_precision: %s (recorded as a missing value)\n", f.what());
+      }
+      pts.push_back(p);
+    }
+  // Odeint on x = (q, q'), the acceleration derived from L, F and Phi by AD
+  using State = std::vector<double>;
+  const auto f = sys.ode(pv);
+  const State x0 = sys.ode_initial_state(pv);
+  auto rhs = [&](const State& x, State& dx, double t) { f(t, x.data(), dx.data()); };
+  // adaptive methods are compared on the coarsest grid (h-max): dense output there does not dominate their cost
+  const double h_out = hs.front();
+  const long N_out = step_count(h_out, Tsys), out_stride = ref.index(1, h_out);
+  std::vector<double> times(static_cast<std::size_t>(N_out + 1));
+  for (long j = 0; j <= N_out; ++j) times[static_cast<std::size_t>(j)] = static_cast<double>(j) * h_out;
+  auto error_of = [&](const std::vector<State>& xs) {
+    double e = 0;
+    for (std::size_t j = 0; j < xs.size(); ++j)
+      for (int i = 0; i < n; ++i)
+        e = std::max(e, std::abs(xs[j][static_cast<std::size_t>(i)] - ref.q[j * static_cast<std::size_t>(out_stride * n) + static_cast<std::size_t>(i)]));
+    return xs.size() == times.size() ? e : std::nan("");
+  };
+  for (double h : hs) {
+    const long N = step_count(h, Tsys);
+    const long stride = ref.index(1, h);
+    auto run = [&](std::vector<State>* out) {
+      odeint::runge_kutta4<State> st;
+      State x = x0;
+      if (out) out->push_back(x);
+      for (long j = 0; j < N; ++j) {
+        st.do_step(rhs, x, static_cast<double>(j) * h, h);
+        if (out) out->push_back(x);
+      }
+      do_not_optimize(x[0]);
+    };
+    std::vector<State> xs;
+    run(&xs);
+    double e = 0;
+    for (long j = 0; j <= N; ++j)
+      for (int i = 0; i < n; ++i)
+        e = std::max(e, std::abs(xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] -
+                                 ref.q[static_cast<std::size_t>(j * stride * n + i)]));
+    pts.push_back({"odeint-rk4", "h", std::nan(""), h, e, N, time_per_call([&] { run(nullptr); }, reps)});
+  }
+  for (double tol : tols) {
+    auto dense = [&](auto stepper, std::vector<State>* out) {
+      State x = x0;
+      const std::size_t k = odeint::integrate_times(stepper, rhs, x, times.begin(), times.end(), h_out / 10,
+                                                    [&](const State& y, double) { if (out) out->push_back(y); });
+      do_not_optimize(x[0]);
+      return static_cast<long>(k);
+    };
+    {
+      std::vector<State> xs;
+      const long steps = dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), &xs);
+      pts.push_back({"odeint-dopri5", "tol", std::nan(""), tol, error_of(xs), steps,
+                     time_per_call([&] { dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), nullptr); }, reps)});
+    }
+    {
+      std::vector<State> xs;
+      const long steps = dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), &xs);
+      pts.push_back({"odeint-bulirsch-stoer", "tol", std::nan(""), tol, error_of(xs), steps,
+                     time_per_call([&] { dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), nullptr); }, reps)});
+    }
+  }
+  Params params = sysopt.header();
+  params.insert(params.end(), {{"h", format_list(hs)}, {"tol", format_list(tols)}, {"reps", std::to_string(reps)},
+                               {"reference", ref.kind},
+                               {"error", "max_j max_i |q_i(t_j) - q_ref,i(t_j)|; adaptive methods: dense output at t = k h-max"}});
+  const std::string stem = sys.name + "_work_precision";
+  TsvWriter data(dir / (stem + ".tsv"), "work_precision", params, {"system", "method", "knob", "value", "steps", "err_max"});
+  TsvWriter tim(dir / (stem + "_timings.tsv"), "work_precision", params,
+                {"system", "method", "knob", "value", "seconds_median", "reps"});
+  std::vector<std::string> methods;
+  for (const auto& p : pts) {
+    data.row(sys.name, p.method, p.knob, p.param, p.steps, p.err);
+    tim.row(sys.name, p.method, p.knob, p.param, p.time.median, p.time.reps);
+    if (std::find(methods.begin(), methods.end(), p.method) == methods.end()) methods.push_back(p.method);
+  }
+  data.commit();
+  tim.commit();
+  const auto d = plots::read_tsv(dir / (stem + ".tsv"));
+  const auto tt = plots::read_tsv(dir / (stem + "_timings.tsv"));
+  plots::Figure fig;
+  fig.title = sys.name + ": max error in q against CPU time (median), T = " + format_number(Tsys);
+  fig.width_in = 7;
+  fig.height_in = 5;
+  plots::Panel p;
+  p.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
+            "set ylabel 'max error in q'\nset key bottom left font ',8'\n";
+  for (const auto& m : methods) {
+    auto keep = [&](std::size_t i) { return d.text(i, "method") == m; };
+    p.series.push_back({tt.numbers("seconds_median", keep), d.numbers("err_max", keep), m, plots::style_for(m, "linespoints")});
+  }
+  fig.panels.push_back(std::move(p));
+  fig.draw(dir / stem);
+  std::printf("CPU time to reach max error <= 1e-6 (median, microseconds); '-' = not reached\n");
+  for (const auto& m : methods) {
+    double best = INFINITY;
+    for (std::size_t r = 0; r < d.rows.size(); ++r)
+      if (d.text(r, "method") == m && d.number(r, "err_max") <= 1e-6) best = std::min(best, tt.number(r, "seconds_median"));
+    if (std::isfinite(best))
+      std::printf("%-24s %14.1f\n", m.c_str(), best * 1e6);
+    else
+      std::printf("%-24s %14s\n", m.c_str(), "-");
+  }
+  return 0;
 }

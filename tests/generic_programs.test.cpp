@@ -31,6 +31,10 @@ TEST_CASE("generic programs refuse bad input with one line, exit 2, and write no
       {"convergence", "--system pendulum --tol 1e-30", "tol must be in"},
       {"regularized_error", "--system pendulum", "has no closed-form solution"},
       {"regularized_error", "--system forced-oscillator --alpha 0 --omega 1", "resonant"},
+      {"work_precision", "--schemes la", "drop --schemes"},
+      {"work_precision", "--system pendulum --schemes nosuch", "unknown scheme 'nosuch'"},
+      {"work_precision", "--system pendulum --h-max 0.3", "not an integer"},
+      {"work_precision", "--q0 1 2", "sweeps alpha only"},
   };
   for (const auto& b : bad) check_rejected(b.program, b.args, b.expect);
 }

@@ -41,8 +41,16 @@ double max_error(const OscillatorScene& sc, double h) {
 }
 
 template <class S>
+double integrate_only(const OscillatorScene& sc, double h) {
+  const long N = step_count(h, sc.T);
+  OscState<double> s{sc.q0, sc.p0, 0.0};
+  integrate_const<S>(s, h, N, sc.alpha, [](long, const OscState<double>&) {});
+  return s.q;
+}
+
+template <class S>
 OscillatorSchemeInfo entry(const char* description) {
-  return {S::name, S::order, description, &run<S>, &max_error<S>, &one_step_matrix<S>};
+  return {S::name, S::order, description, &run<S>, &max_error<S>, &one_step_matrix<S>, &integrate_only<S>};
 }
 
 }  // namespace
@@ -67,6 +75,25 @@ const OscillatorSchemeInfo& find_oscillator_scheme(const std::string& name) {
   std::string known;
   for (const auto& s : all) known += (known.empty() ? "" : ", ") + s.name;
   throw InputError("unknown scheme '" + name + "' (known: " + known + ")");
+}
+
+const std::vector<std::string>& oscillator_defaults(const std::string& study) {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> defaults = {
+      {"fig1", {"la", "la-printed", "contact"}},
+      {"convergence", {"la", "contact", "la-printed", "leapfrog", "la-midpoint", "contact-sym"}},
+      {"work_precision", {"la", "contact", "la-midpoint", "contact-sym", "leapfrog"}},
+      {"stability", {"la", "la-printed", "contact", "la-midpoint", "contact-sym", "leapfrog", "conformal-strang"}},
+      {"bench", {"la", "contact", "la-printed", "la-midpoint", "contact-sym", "leapfrog"}},
+  };
+  for (const auto& [k, v] : defaults)
+    if (k == study) return v;
+  throw InputError("no default scheme list for study '" + study + "'");
+}
+
+std::string join_names(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : " ") + n;
+  return s;
 }
 
 }  // namespace geomint

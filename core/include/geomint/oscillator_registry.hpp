@@ -21,10 +21,17 @@ struct OscillatorSchemeInfo {
   double (*max_error)(const OscillatorScene&, double h);
   // the one-step matrix on (q, p): all-orders modified coefficients and stability maps use it
   void (*one_step)(long double h, long double alpha, long double M[2][2]);
+  // N = T/h steps with nothing observed (for timings); returns the final q so the work cannot be dropped
+  double (*integrate)(const OscillatorScene&, double h);
 };
 
 const std::vector<OscillatorSchemeInfo>& oscillator_schemes();
 // Throws InputError naming the known schemes when `name` is unknown.
 const OscillatorSchemeInfo& find_oscillator_scheme(const std::string& name);
+
+// The schemes a study shows by default, in the order of its tables: the one place these lists are written.
+// Studies: fig1, convergence, work_precision, stability, bench.
+const std::vector<std::string>& oscillator_defaults(const std::string& study);
+std::string join_names(const std::vector<std::string>& names);  // "a b c", for --help
 
 }  // namespace geomint

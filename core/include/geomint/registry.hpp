@@ -4,6 +4,7 @@
 // A system is one header under core/include/geomint/systems/ plus one line in core/src/systems.def; the
 // build then compiles that system's schemes, references and runners once, in a translation unit of its own
 // (generated from systems.def), and every program that takes --system finds it here. Nothing else changes.
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -86,6 +87,12 @@ struct SystemInfo {
   // tol) on the equations derived from L, F and Phi by automatic differentiation (odeint) or on the system's
   // hand-written rhs (odeint_rhs).
   Reference (*reference)(const ParamValues&, double h, long N, ReferenceKind, double tol) = nullptr;
+  // For work–precision: the median CPU seconds of one run of N = T/h steps (nothing stored; warm-up, repeats),
+  // and the continuous equations as a first-order ODE x' = f(t, x), x = (q, q') (the AD-derived acceleration),
+  // with its consistent initial state, for Odeint baselines.
+  double (*seconds_per_run)(const ParamValues&, const std::string& scheme, double h, Path, int reps) = nullptr;
+  std::function<void(double t, const double* x, double* dx)> (*ode)(const ParamValues&) = nullptr;
+  std::vector<double> (*ode_initial_state)(const ParamValues&) = nullptr;
 
   const SchemeInfo& scheme(const std::string& name) const;  // InputError naming the known ones
   std::vector<std::string> scheme_names() const;

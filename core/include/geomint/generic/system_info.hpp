@@ -15,6 +15,7 @@
 #include "geomint/io.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/registry.hpp"
+#include "geomint/timing.hpp"
 
 namespace geomint::generic {
 
@@ -366,6 +367,44 @@ SystemInfo make_system_info() {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
     return reference_of(sys, h, N, kind, tol);
+  };
+  info.seconds_per_run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, int reps) {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    const long N = step_count(h, horizon_of(sys));
+    return visit_scheme<Sys>(scheme, [&](auto g) {
+      using G = decltype(g);
+      double last = 0;
+      const auto st = time_per_call(
+          [&] {
+            drive<Sys, G>(sys, h, N, path, [&](const StepView<double, Sys::dof, Sys::constraints>& v, int) { last = v.q(0); });
+            do_not_optimize(last);
+          },
+          reps);
+      return st.median;
+    });
+  };
+  info.ode = [](const ParamValues& pv) -> std::function<void(double, const double*, double*)> {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    return [sys](double t, const double* x, double* dx) {
+      constexpr int n = Sys::dof;
+      const Eigen::Map<const Vec<double, n>> q(x), v(x + n);
+      const Vec<double, n> a = acceleration(sys, t, Vec<double, n>(q), Vec<double, n>(v)).a;
+      for (int i = 0; i < n; ++i) {
+        dx[i] = v(i);
+        dx[n + i] = a(i);
+      }
+    };
+  };
+  info.ode_initial_state = [](const ParamValues& pv) {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    const Vec<double, Sys::dof> q0 = sys.template initial_position<double>();
+    const Vec<double, Sys::dof> v0 = consistent_velocity(sys, 0.0, q0, sys.template initial_velocity<double>());
+    std::vector<double> x(q0.data(), q0.data() + Sys::dof);
+    x.insert(x.end(), v0.data(), v0.data() + Sys::dof);
+    return x;
   };
   return info;
 }
