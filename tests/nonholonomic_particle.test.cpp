@@ -5,6 +5,7 @@
 
 #include "geomint/reference.hpp"
 #include "geomint/study.hpp"
+#include "generic_checks.hpp"
 #include "geomint/systems/nonholonomic_particle.hpp"
 
 using namespace geomint;
@@ -67,4 +68,11 @@ TEST_CASE("particle: the continuous reference keeps its constraint and loses ene
   for (const auto& r : ref) CHECK(std::abs(-r[1] * r[3] + r[5]) < 1e-9);
   CHECK_THROWS_AS((NonholonomicParticle{0, 1, 0.1}.validate()), InputError);
   CHECK_THROWS_AS((NonholonomicParticle{1, 1, -0.1}.validate()), InputError);
+}
+
+TEST_CASE("particle: the LA step is the fast path of the generic la scheme; equations from L and Phi",
+          "[example][system][generic]") {
+  systems::NonholonomicParticle sys;
+  testing::check_all_fast_paths(sys, 0.05, 20000);
+  testing::check_equations(sys);
 }

@@ -1,0 +1,116 @@
+#pragma once
+// Checks every system of the generic core gets, as templates: its AD-derived equations against its
+// hand-written ones (and the Herglotz form against the Lagrange–d'Alembert form), and its closed-form fast
+// paths against the generic schemes step by step. One test file per system includes this, so touching one
+// system header rebuilds one test file.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <tuple>
+
+#include "geomint/generic/fast_path.hpp"
+#include "geomint/generic/stepper.hpp"
+
+namespace geomint::testing {
+
+// ---- equations
+
+template <class Sys>
+void check_equations(const Sys& sys) {
+  constexpr int n = Sys::dof;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worst_rhs = 0, worst_herglotz = 0;
+  for (int k = 0; k < 100; ++k) {
+    const double t = 10 * std::abs(u(rng));
+    Vec<double, n> q, v;
+    for (int i = 0; i < n; ++i) {
+      q(i) = u(rng);
+      v(i) = u(rng);
+    }
+    if (q.norm() < 0.1) continue;
+    v = generic::consistent_velocity(sys, t, q, v);  // on the constraint, where the equations are compared
+    const auto a = generic::acceleration(sys, t, q, v);
+    Vec<double, n> hand;
+    sys.rhs(t, q, v, hand);
+    worst_rhs = std::max(worst_rhs, (a.a - hand).template lpNorm<Eigen::Infinity>() / (1 + hand.norm()));
+    if constexpr (generic::has_herglotz_v<Sys>) {
+      const auto b = generic::herglotz_acceleration(sys, t, q, v, u(rng));
+      worst_herglotz = std::max(worst_herglotz, (a.a - b.a).template lpNorm<Eigen::Infinity>() / (1 + hand.norm()));
+    }
+  }
+  INFO(Sys::name << ": AD vs hand " << worst_rhs << ", Herglotz vs LA " << worst_herglotz);
+  CHECK(worst_rhs < 1e-13);
+  CHECK(worst_herglotz < 1e-13);
+}
+
+
+// A closed-form solution solves the equations derived from L: d/dt of the exact velocity (central difference,
+// e = 1e-4: error ~ e^2 |q^(4)| ~ 1e-8) equals the acceleration, and d/dt of q the velocity.
+template <class Sys>
+void check_exact_solves(const Sys& sys, double t) {
+  const double e = 1e-4;
+  const auto x = sys.template exact<double>(t), xp = sys.template exact<double>(t + e), xm = sys.template exact<double>(t - e);
+  const auto a = generic::acceleration(sys, t, x.q, x.v);
+  INFO(Sys::name << " at t = " << t);
+  CHECK(((xp.v - xm.v) / (2 * e) - a.a).norm() < 1e-8);
+  CHECK(((xp.q - xm.q) / (2 * e) - x.v).norm() < 1e-8);
+}
+
+// ---- fast paths
+// Every hand-derived step is the fast path of a generic scheme: over a long run the two agree step by step
+// to round-off growth. Bound: one unit of eps * max|x| per step (linear growth, the worst case for the
+// phase error of a neutrally stable oscillation; both sides round a few times per step, independently).
+// The measured differences are far below it (printed with -s), while any error in a formula — an O(h)
+// term — would exceed it by orders of magnitude.
+
+struct Difference {
+  double q = 0, p = 0, z = 0, qmax = 0, pmax = 0;
+  long steps = 0;
+};
+
+template <class Sys, class G, class C>
+Difference compare(const Sys& sys, double h, long N) {
+  constexpr int n = Sys::dof, m = Sys::constraints;
+  Difference d;
+  d.steps = N;
+  generic::Stepper<Sys, G> st(sys, h);
+  st.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
+  sys.template run_fast<C>(h, N, [&](const generic::StepView<double, n, m>& v) {
+    if (v.j > 0) st.step();
+    const auto& s = st.state();
+    REQUIRE(s.j == v.j);
+    d.q = std::max(d.q, (s.q - v.q).template lpNorm<Eigen::Infinity>());
+    d.p = std::max(d.p, (s.p - v.p).template lpNorm<Eigen::Infinity>());
+    d.z = std::max(d.z, std::abs(s.z - v.z));
+    d.qmax = std::max(d.qmax, v.q.template lpNorm<Eigen::Infinity>());
+    d.pmax = std::max(d.pmax, v.p.template lpNorm<Eigen::Infinity>());
+  });
+  return d;
+}
+
+template <class Sys>
+void check_all_fast_paths(const Sys& sys, double h, long N) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  std::apply([&](auto... fp) {
+    (([&] {
+       using FP = decltype(fp);
+       const auto d = compare<Sys, typename FP::generic, typename FP::closed>(sys, h, N);
+       const double bound_q = double(N) * eps * d.qmax, bound_p = double(N) * eps * d.pmax;
+       INFO(Sys::name << ": " << FP::closed::name << " vs generic " << generic::scheme_name<typename FP::generic>()
+                      << " over " << N << " steps: |dq| " << d.q << " (bound " << bound_q << "), |dp| " << d.p
+                      << " (bound " << bound_p << "), |dz| " << d.z);
+       CHECK(d.q <= bound_q);
+       CHECK(d.p <= bound_p);
+       CHECK(d.z <= bound_p * h * 10);  // z accumulates h L per step: |L| <~ |p|^2 ~ 10 |p| here
+       WARN(Sys::name << " " << FP::closed::name << ": |dq| = " << d.q << " = " << d.q / bound_q
+                      << " of the bound, |dp| = " << d.p << " = " << d.p / bound_p << " of the bound");
+     }()),
+     ...);
+  }, typename Sys::fast_paths{});
+}
+
+
+}  // namespace geomint::testing
