@@ -74,32 +74,36 @@ int main(int argc, char** argv) {
       tsv.write_row(cells);
     }
     tsv.commit();
+    char newton_buf[32];
+    std::snprintf(newton_buf, sizeof newton_buf, "%.3f", run.newton_mean);
+    const std::string newton = run.newton_mean < 0 ? "- (closed form)" : newton_buf;
     std::printf("%s, %s (%s), h = %g, %ld steps: E(0) = %.10g, E(T) = %.10g, max |Phi_d| = %.3g, "
                 "Newton iterations per step %s\n",
                 sys.name.c_str(), sc.name.c_str(),
                 path == Path::fast && !sc.fast_path.empty() ? ("closed form " + sc.fast_path).c_str() : "generic", h, N, run.energy.front(), run.energy.back(),
-                run.max_phi_d, run.newton_mean < 0 ? "- (closed form)" : format_number(run.newton_mean).c_str());
+                run.max_phi_d, newton.c_str());
 
     // The figure, from the saved table.
     const auto t = plots::read_tsv(dir / (stem + ".tsv"));
     auto all = [](std::size_t) { return true; };
+    const std::string xrange = "set xrange [0:" + format_number(T) + "]\n";  // also when few rows are kept
     plots::Figure fig;
     fig.title = sys.name + ", " + sc.name + ", h = " + format_number(h);
     fig.cols = m > 0 ? 3 : 2;
     fig.width_in = 4.4 * fig.cols;
     fig.height_in = 4;
     plots::Panel pq;
-    pq.setup = "set xlabel 't'\nset ylabel 'q'\nset key top right\nset title 'positions'\n";
+    pq.setup = xrange + "set xlabel 't'\nset ylabel 'q'\nset key top right\nset title 'positions'\n";
     for (int i = 0; i < n; ++i)
       pq.series.push_back({t.numbers("t", all), t.numbers(comp("q", i, n), all), comp("q", i, n), "lines lw 1.2"});
     fig.panels.push_back(pq);
     plots::Panel pe;
-    pe.setup = "set xlabel 't'\nset ylabel 'E'\nset key top right\nset title 'energy E(q_j, v_j), v_j from p_j'\n";
+    pe.setup = xrange + "set xlabel 't'\nset ylabel 'E'\nset key top right\nset title 'energy E(q_j, v_j), v_j from p_j'\n";
     pe.series.push_back({t.numbers("t", all), t.numbers("energy", all), "energy", plots::style_for(sc.name)});
     fig.panels.push_back(pe);
     if (m > 0) {
       plots::Panel pc;
-      pc.setup = "set logscale y\nset format y '10^{%L}'\nset xlabel 't'\nset ylabel 'max_c |residual|'\n"
+      pc.setup = xrange + "set logscale y\nset format y '10^{%L}'\nset xlabel 't'\nset ylabel 'max_c |residual|'\n"
                  "set key bottom right\nset title 'constraint residuals'\n";
       auto positive = [&](std::size_t r, const char* col) { return t.number(r, col) > 0; };
       pc.series.push_back({t.numbers("t", [&](std::size_t r) { return positive(r, "phi_d"); }),

@@ -51,6 +51,7 @@ namespace la_quadrature {
 // The paper's "linear order" (6), (15): 𝓛 = h L(t_j, q_j, v), F_d^- = h F(t_j, q_j, v), F_d^+ = 0.
 struct Left {
   static constexpr const char* name = "left";
+  static constexpr const char* scheme = "la";  // the scheme's name on command lines
   static constexpr int order = 1;
   template <class Sys, class S, int n = Sys::dof>
   static Sample<S, n> psi(const S& t, const S& h, const Vec<S, n>& q0, const Vec<S, n>& q1) {
@@ -73,6 +74,7 @@ struct Left {
 // Midpoint: 𝓛 = h L(t_j + h/2, (q_j + q_{j+1})/2, v), F_d^± = h/2 F(same point). Symmetric: second order.
 struct Midpoint {
   static constexpr const char* name = "midpoint";
+  static constexpr const char* scheme = "la-midpoint";
   static constexpr int order = 2;
   template <class Sys, class S, int n = Sys::dof>
   static Sample<S, n> psi(const S& t, const S& h, const Vec<S, n>& q0, const Vec<S, n>& q1) {
@@ -99,6 +101,7 @@ struct Midpoint {
 // Psi is the midpoint (symmetric).
 struct Trapezoid {
   static constexpr const char* name = "trapezoid";
+  static constexpr const char* scheme = "la-trapezoid";
   static constexpr int order = 2;
   template <class Sys, class S, int n = Sys::dof>
   static Sample<S, n> psi(const S& t, const S& h, const Vec<S, n>& q0, const Vec<S, n>& q1) {
@@ -130,6 +133,7 @@ namespace contact_quadrature {
 // 𝓛 = h/2 [L(t_j, q_j, v, z_j) + L(t_{j+1}, q_{j+1}, v, z_j)]. Explicit in z (D4 𝓛 = 0). First order.
 struct Left {
   static constexpr const char* name = "left";
+  static constexpr const char* scheme = "contact";
   static constexpr int order = 1;
   static constexpr bool implicit_z = false;
   template <class Sys, class S, int n = Sys::dof>
@@ -148,6 +152,7 @@ struct Left {
 // Symmetric: second order (the oscillator's `contact-sym`). Psi is the midpoint.
 struct Trapezoid {
   static constexpr const char* name = "trapezoid";
+  static constexpr const char* scheme = "contact-trapezoid";
   static constexpr int order = 2;
   static constexpr bool implicit_z = true;
   template <class Sys, class S, int n = Sys::dof>
@@ -448,7 +453,8 @@ struct Herglotz {
   }
 };
 
-// The registered generic schemes: principle and quadrature, and their names.
+// The generic schemes: a principle over a quadrature. A new scheme is a new quadrature (a struct like the ones
+// above, with its `scheme` name) and one entry in AllSchemes (system_info.hpp); every system then has it.
 using LaLeft = LagrangeDAlembert<la_quadrature::Left>;
 using LaMidpoint = LagrangeDAlembert<la_quadrature::Midpoint>;
 using LaTrapezoid = LagrangeDAlembert<la_quadrature::Trapezoid>;
@@ -457,12 +463,7 @@ using ContactTrapezoid = Herglotz<contact_quadrature::Trapezoid>;
 
 template <class Scheme>
 constexpr const char* scheme_name() {
-  if constexpr (std::is_same_v<Scheme, LaLeft>) return "la";
-  if constexpr (std::is_same_v<Scheme, LaMidpoint>) return "la-midpoint";
-  if constexpr (std::is_same_v<Scheme, LaTrapezoid>) return "la-trapezoid";
-  if constexpr (std::is_same_v<Scheme, ContactLeft>) return "contact";
-  if constexpr (std::is_same_v<Scheme, ContactTrapezoid>) return "contact-trapezoid";
-  return "?";
+  return Scheme::quadrature::scheme;
 }
 
 }  // namespace geomint::generic
