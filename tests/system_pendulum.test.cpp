@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "generic_checks.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/systems/pendulum.hpp"
 
 using namespace geomint;
@@ -10,4 +11,27 @@ using namespace geomint::testing;
 
 TEST_CASE("pendulum: equations derived from L equal q'' = -sin q - alpha q', in both forms", "[generic][equations]") {
   check_equations(systems::Pendulum{});
+}
+
+namespace {
+struct NotLinear : systems::Pendulum {
+  static constexpr bool linear = true;
+};
+}  // namespace
+
+TEST_CASE("a system that wrongly declares itself linear is caught by the linear lane's check", "[generic][newton]") {
+  // The pendulum is not linear; declared so, the stepper takes one Newton update per step (the linear lane) and
+  // its periodic check finds the residual above round-off.
+  NotLinear sys;
+  sys.q0 = 2.5;  // large swings: strongly nonlinear
+  generic::Stepper<NotLinear, generic::LaMidpoint> st(sys, 0.1);
+  st.start(sys.initial_position<double>(), sys.initial_velocity<double>());
+  CHECK_THROWS_WITH([&] { for (int j = 0; j < 2000; ++j) st.step(); }(), Catch::Contains("declares itself linear"));
+  // the oscillator, which is linear, runs through the lane with its residual at round-off at every check
+  systems::Oscillator osc;
+  generic::Stepper<systems::Oscillator, generic::ContactLeft> so(osc, 0.1);
+  so.start(osc.initial_position<double>(), osc.initial_velocity<double>());
+  for (int j = 0; j < 20000; ++j) so.step();
+  CHECK(so.jacobians() == 1);
+  CHECK(so.total_updates() == 20000);
 }

@@ -88,7 +88,7 @@ class Stepper {
   }
 
   void step() {
-    const VecK x = solve(predict());
+    const VecK x = linear_lane_ ? solve_linear(predict()) : solve(predict());
     // shift the history used by the predictor
     x2_ = x1_;
     x1_ = x0_;
@@ -120,6 +120,7 @@ class Stepper {
   }
 
   void reset_history(bool have_velocity) {
+    linear_lane_ = false;
     x0_ = current();
     history_ = have_velocity ? 0 : -1;
     need_jacobian_ = true;
@@ -209,6 +210,42 @@ class Stepper {
     return w;
   }
 
+  // A system that declares itself linear (L quadratic in (q, q'), F and Phi affine: `static constexpr bool
+  // linear = true`) has, with a quadrature explicit in z, a residual and outputs p_{j+1} affine in the unknowns:
+  // one Newton update from any point is the solution (to the round-off of the linear solve), and p_{j+1} moves
+  // with it exactly by its derivative. So one evaluation per step, at the predictor. z_{j+1} = z_j + 𝓛 (quadratic
+  // in q_{j+1}) is evaluated at the solution in plain arithmetic. The declaration is checked: the first steps and
+  // every kVerify-th step go through the full Newton solve with its stopping rule, and a lane step whose residual
+  // is not then at round-off throws.
+  static constexpr long kVerify = 256;
+  VecK solve_linear(VecK x) {
+    VecK R, scale;
+    evaluate(x, R, scale);
+    const VecK dx = -(Jinv_ * R);
+    x += dx;
+    out_.p_next += dP_ * dx;
+    if constexpr (Scheme::contact) out_.z_next = Scheme::next_z(sys_, s_.t, h_, s_.q, VecN(x.template head<n>()), s_.z);
+    last_updates_ = 1;
+    ++total_updates_;
+    if (++lane_steps_ % kVerify == 0) verify_linear(x);
+    return x;
+  }
+  [[gnu::noinline]] void verify_linear(const VecK& x) {
+    using std::abs;
+    VecK R, scale;
+    const Output keep = out_;
+    evaluate(x, R, scale);
+    const VecK w = sizes(x);
+    const T tol = T(kappa) * std::numeric_limits<T>::epsilon();
+    for (int r = 0; r < K; ++r) {
+      T sc = scale(r);
+      for (int c = 0; c < K; ++c) sc += abs(J_(r, c)) * w(c);
+      if (!(abs(R(r)) <= tol * sc + T(kappa) * std::numeric_limits<T>::denorm_min()))
+        fail(R, 1, "the system declares itself linear, but one Newton update did not solve the step");
+    }
+    out_ = keep;
+  }
+
   VecK solve(VecK x) {
     using std::abs;
     using std::isfinite;
@@ -260,6 +297,9 @@ class Stepper {
     }
     // keep the Jacobian for the next step only if it made this one converge after one update
     if (updates > 1) need_jacobian_ = true;
+    // a linear system enters the one-evaluation lane once its Jacobian has solved a step in one update
+    if constexpr (is_linear<Sys>() && !Scheme::implicit_z)
+      if (updates == 1 && !need_jacobian_ && history_ >= 1) linear_lane_ = true;
     last_updates_ = updates;
     total_updates_ += updates;
     return x;
@@ -293,6 +333,8 @@ class Stepper {
   } out_;  // p_{j+1}, z_{j+1} at the last iterate whose rows were evaluated
   int last_updates_ = 0;
   long total_updates_ = 0, jacobians_ = 0;
+  bool linear_lane_ = false;
+  long lane_steps_ = 0;
 };
 
 }  // namespace geomint::generic

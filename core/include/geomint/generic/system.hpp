@@ -22,7 +22,11 @@
 //   template <class S> Phase<S, n> exact(const S& t) const;                 a closed-form solution
 //   void rhs(double t, const Vec<double, n>& q, const Vec<double, n>& v, Vec<double, n>& a) const;
 //                                      a hand-written acceleration (the generic one is derived from L)
-//   static constexpr bool linear = true;                                    the step is linear (stability maps)
+//   static constexpr bool linear = true;     L quadratic in (q, q') and F, Phi affine in them, with the
+//                                            coefficients of q, q' constant in time (a time-dependent forcing
+//                                            term is allowed): every step is the same linear solve, done with one
+//                                            Newton update (checked at run time); without forcing, a linear map
+//                                            (stability maps)
 #include <type_traits>
 #include <utility>
 

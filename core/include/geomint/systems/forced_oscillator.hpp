@@ -19,6 +19,7 @@ struct ForcedOscillator {
   static constexpr const char* description = "forced damped oscillator: q'' + alpha q' + q = beta sin(omega t)";
   static constexpr int dof = 1;
   static constexpr int constraints = 0;
+  static constexpr bool linear = true;  // L quadratic in (q, q'), F linear: every step is a linear solve
 
   double alpha = 0.1, beta = 0.3, omega = 3.14159265358979323846 / 3, dq0 = 0, dv0 = 0, T = 50;
 

@@ -135,6 +135,8 @@ struct FoucaultRotation : detail::FoucaultBase {
   static constexpr const char* name = "foucault-rotation";
   static constexpr const char* description =
       "damped Foucault pendulum, constraint (13) as the exact rotation of the plane (the remedy for the anomaly)";
+  // Not `linear`: each step is a linear solve, but its matrix turns with the plane (A = n(phi(t_j))), so a kept
+  // Jacobian is stale — the linear lane's check caught this declaration (tests/system_pendulum.test.cpp).
 
   double phi0() const { return std::atan2(scene.y0, scene.x0); }
   template <class S>
