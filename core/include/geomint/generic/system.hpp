@@ -266,6 +266,21 @@ Vec<double, Sys::constraints> constraint_drift(const Sys& sys, double t, const V
   return c;
 }
 
+// M a = f + A^T lambda on the constraints (differentiated along the motion), or M a = f without any.
+template <class Sys>
+Acceleration<Sys> constrained_acceleration(const Sys& sys, double t, const Vec<double, Sys::dof>& q,
+                                           const Vec<double, Sys::dof>& v, const Mat<double, Sys::dof, Sys::dof>& M,
+                                           const Vec<double, Sys::dof>& f) {
+  constexpr int n = Sys::dof, m = Sys::constraints;
+  Acceleration<Sys> out;
+  if constexpr (m == 0) {
+    solve_kkt<n, 0>(M, Mat<double, 0, n>(), f, Vec<double, 0>(), out.a, out.lambda);
+  } else {
+    solve_kkt<n, m>(M, sys.constraint_matrix(t, q), f, constraint_drift(sys, t, q, v), out.a, out.lambda);
+  }
+  return out;
+}
+
 }  // namespace detail
 
 template <class Sys>
@@ -283,14 +298,7 @@ Acceleration<Sys> acceleration(const Sys& sys, double t, const Vec<double, Sys::
   const Vec<double, n> Lq = H.grad.template segment<n>(1);
   const Vec<double, n> f = Lq - H.hess.template block<n, n>(1 + n, 1) * v - H.hess.template block<n, 1>(1 + n, 0) +
                            force<Sys, double>(sys, t, q, v);
-  Acceleration<Sys> out;
-  if constexpr (m == 0) {
-    detail::solve_kkt<n, 0>(M, Mat<double, 0, n>(), f, Vec<double, 0>(), out.a, out.lambda);
-  } else {
-    detail::solve_kkt<n, m>(M, sys.constraint_matrix(t, q), f, detail::constraint_drift(sys, t, q, v), out.a,
-                            out.lambda);
-  }
-  return out;
+  return detail::constrained_acceleration(sys, t, q, v, M, f);
 }
 
 template <class Sys>
@@ -312,14 +320,7 @@ Acceleration<Sys> herglotz_acceleration(const Sys& sys, double t, const Vec<doub
   // d/dt L_v = L_vt + L_vq q' + L_vv a + L_vz z',  z' = L
   const Vec<double, n> f = Lq - H.hess.template block<n, n>(1 + n, 1) * v - H.hess.template block<n, 1>(1 + n, 0) -
                            H.hess.template block<n, 1>(1 + n, N - 1) * L + Lv * Lz;
-  Acceleration<Sys> out;
-  if constexpr (m == 0) {
-    detail::solve_kkt<n, 0>(M, Mat<double, 0, n>(), f, Vec<double, 0>(), out.a, out.lambda);
-  } else {
-    detail::solve_kkt<n, m>(M, sys.constraint_matrix(t, q), f, detail::constraint_drift(sys, t, q, v), out.a,
-                            out.lambda);
-  }
-  return out;
+  return detail::constrained_acceleration(sys, t, q, v, M, f);
 }
 
 }  // namespace generic
