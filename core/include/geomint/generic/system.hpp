@@ -285,7 +285,7 @@ Acceleration<Sys> constrained_acceleration(const Sys& sys, double t, const Vec<d
 
 template <class Sys>
 Acceleration<Sys> acceleration(const Sys& sys, double t, const Vec<double, Sys::dof>& q, const Vec<double, Sys::dof>& v) {
-  constexpr int n = Sys::dof, m = Sys::constraints, N = 2 * n + 1;
+  constexpr int n = Sys::dof, N = 2 * n + 1;
   Vec<double, N> x;
   x << t, q, v;
   const auto H = detail::hessian<N>(
@@ -304,7 +304,7 @@ Acceleration<Sys> acceleration(const Sys& sys, double t, const Vec<double, Sys::
 template <class Sys>
 Acceleration<Sys> herglotz_acceleration(const Sys& sys, double t, const Vec<double, Sys::dof>& q,
                                         const Vec<double, Sys::dof>& v, double z) {
-  constexpr int n = Sys::dof, m = Sys::constraints, N = 2 * n + 2;
+  constexpr int n = Sys::dof, N = 2 * n + 2;
   Vec<double, N> x;
   x << t, q, v, z;
   const auto H = detail::hessian<N>(
