@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
     double record_deg = 0.1;
     int worst = 3;
     long quad_full_steps = 200000;
+    std::string simd_name = "best";
     Cli cli("anomaly_foucault",
             "plane-jump anomaly of the Foucault schemes on ensembles; its cause; the rotation remedy");
     cli.options.add_options()("runs", po::value(&runs)->default_value(runs),
@@ -73,7 +74,9 @@ int main(int argc, char** argv) {
         "record every half-swing whose plane turns by more than this (deg) beyond the exact precession")(
         "worst", po::value(&worst)->default_value(worst), "largest jumps per scheme rerun in long double and quad")(
         "quad-full-steps", po::value(&quad_full_steps)->default_value(quad_full_steps),
-        "rerun in quad from t = 0 up to this many steps; longer: from the double state one half-swing before");
+        "rerun in quad from t = 0 up to this many steps; longer: from the double state one half-swing before")(
+        "simd", po::value(&simd_name)->default_value(simd_name),
+        "ensemble kernel: best, scalar (one run at a time), sse2, avx2, avx512 (same bits for every choice)");
     if (!cli.parse(argc, argv)) return 0;
 
     // Validate everything before writing anything.
@@ -86,6 +89,7 @@ int main(int argc, char** argv) {
     require(std::isfinite(record_deg) && record_deg > 0 && record_deg < 90, "record-deg must be in (0, 90)");
     require(worst >= 0 && worst <= 100, "worst must be in [0, 100]");
     require(quad_full_steps >= 0, "quad-full-steps must be non-negative");
+    const Simd simd = parse_simd(simd_name);
     const auto dir = prepare_output_dir(cli.out);
 
     const double s = base.s();
@@ -108,7 +112,7 @@ int main(int argc, char** argv) {
         last_print = e;
         printed = true;
       }
-    });
+    }, simd);
     const double t_ensemble = elapsed();
 
     Params params{{"runs", std::to_string(runs)},
@@ -388,7 +392,7 @@ int main(int argc, char** argv) {
               h[i] *= std::pow(1.25, u - 0.5);
               if (row == 0) y[i] = std::max(std::abs(y[i]), 1e-17);
             }
-            p.series.push_back({h, y, series_name(n, c), series_style(n, c, c == "rotation" ? "points pt 6 ps 0.4" : "points pt 7 ps 0.4")});
+            p.series.push_back({h, y, series_name(n, c), series_style(n, c, c == "rotation" ? "points pt 4 ps 0.3" : "points pt 5 ps 0.3")});
             ++ci;
           }
           fig.panels.push_back(std::move(p));
