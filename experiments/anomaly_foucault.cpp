@@ -27,6 +27,8 @@
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
+#include "geomint/progress.hpp"
+#include "geomint/sweep.hpp"
 
 using namespace geomint;
 
@@ -96,23 +98,26 @@ int main(int argc, char** argv) {
     const auto cases = anomaly_cases(hs, alphas, names, constraints, runs);
     const auto t0 = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-    double last_print = 0;
-    bool printed = false;
-    // Work done, for the estimate of the time left: the threads pull cases in order, so the first d cases
-    // are (about) the finished ones; weigh them by their steps.
-    std::vector<double> work_before{0};
-    for (const auto& c : cases) work_before.push_back(work_before.back() + base.T / c.h);
-    const auto results = run_anomaly_ensemble(base, cases, record_deg / deg, threads, [&](std::size_t d, std::size_t n) {
-      const double e = elapsed();
-      if ((e > 1.5 && e - last_print >= 2) || (printed && d == n)) {
-        const double w = work_before[d] / work_before.back();
-        const double left = w > 0 ? e * (1 - w) / w : NaN;
-        std::fprintf(stderr, "anomaly_foucault: %zu/%zu runs (%.0f%%), %.1f s, ~%.0f s left\n", d, n,
-                     100.0 * static_cast<double>(d) / static_cast<double>(n), e, left);
-        last_print = e;
-        printed = true;
-      }
-    }, simd);
+    // Under mpirun every rank runs its share of the cases (about equal in steps) and rank 0 gathers them.
+    const Sweep& sweep = Sweep::world();
+    std::vector<double> cost;
+    for (const auto& c : cases) cost.push_back(base.T / c.h);
+    Progress progress("anomaly_foucault", "runs", sweep.root());
+    const auto results = sweep.map<AnomalyRun>(
+        cases.size(), cost,
+        [&](std::size_t first, std::size_t last) {
+          const std::vector<AnomalyCase> mine(cases.begin() + static_cast<long>(first), cases.begin() + static_cast<long>(last));
+          // work done, for the time left: the threads pull cases in order, so the first d are (about) the finished ones
+          std::vector<double> work_before{0};
+          for (std::size_t i = first; i < last; ++i) work_before.push_back(work_before.back() + cost[i]);
+          auto report = [&](std::size_t d, std::size_t n) { progress.update(d, n, work_before[d] / work_before.back()); };
+          return run_anomaly_ensemble(base, mine, record_deg / deg, threads,
+                                      progress.active() ? std::function<void(std::size_t, std::size_t)>(report) : nullptr,
+                                      simd);
+        },
+        [](const AnomalyRun& r) { return pack(r); }, unpack_anomaly_run);
+    progress.done();
+    if (!sweep.root()) return 0;  // rank 0 writes everything
     const double t_ensemble = elapsed();
 
     Params params{{"runs", std::to_string(runs)},
@@ -120,7 +125,6 @@ int main(int argc, char** argv) {
                         {"alpha", format_list(alphas)},
                         {"T", format_number(base.T)},
                         {"start", "legendre, from the exact state at tau = h (run + 1/2) / runs"},
-                        {"threads", std::to_string(threads)},
                         {"record_deg", format_number(record_deg)},
                         {"jump", "plane angle change between successive turning points minus the exact -Omega sin(beta) dt"},
                         {"predicted", "paper: asin(-sigma s h |q_{L-1}|/|q_L|) + s h at the landing q_L; rotation: 0"},
@@ -184,8 +188,9 @@ int main(int argc, char** argv) {
       if (r.status != "ok") ++total_failed;
     }
     std::printf("Foucault pendulum, T = %g s, %ld runs per row (start shifted by tau = h (k + 1/2)/%ld), "
-                "%ld runs, %.3g steps in %.1f s on %u threads, %ld failed\n",
-                base.T, runs, runs, total_runs, total_steps, t_ensemble, threads, total_failed);
+                "%ld runs, %.3g steps in %.1f s on %d process(es) x %u threads (%s), %ld failed\n",
+                base.T, runs, runs, total_runs, total_steps, t_ensemble, sweep.size(), threads, to_string(simd),
+                total_failed);
     std::printf("P>K: share of runs whose plane jumps by more than K in one half-swing (predicted: 1 - exp(-N_pass 2 s h / sin K));\n"
                 "E-1%%: share of runs ending > 1%% below E0 e^-at; |dplane|: |final plane angle - exact| (deg)\n");
     std::printf("%-10s %-8s %-6s %-6s %4s %4s %13s %13s %13s %13s %10s %10s %9s\n", "scheme", "constr", "alpha", "h",

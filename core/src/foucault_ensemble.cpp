@@ -1,4 +1,5 @@
 #include "geomint/foucault_ensemble.hpp"
+#include "geomint/sweep.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -7,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <thread>
+#include <type_traits>
 #include <tuple>
 
 // Quad precision: Boost.Multiprecision's header-only IEEE binary128 emulation (113-bit significand,
@@ -51,6 +53,23 @@ bool same_bits(const AnomalyRun& a, const AnomalyRun& b) {
   for (std::size_t i = 0; i < a.jumps.size(); ++i)
     if (!same(a.jumps[i], b.jumps[i])) return false;
   return true;
+}
+
+std::string pack(const AnomalyRun& r) {
+  static_assert(std::is_trivially_copyable_v<AnomalySummary> && std::is_trivially_copyable_v<FoucaultJump>);
+  RowWriter w;
+  w.put(r.c.scheme).put(r.c.constraint).put(r.c.alpha).put(r.c.h).put(r.c.tau).put(r.c.run);
+  w.put(r.status).put(r.steps).put(r.phi0).put(r.energy_ratio_exact).put(r.summary).put(r.jumps);
+  return std::move(w).str();
+}
+
+AnomalyRun unpack_anomaly_run(const std::string& row) {
+  AnomalyRun r;
+  RowReader in(row);
+  in.get(r.c.scheme).get(r.c.constraint).get(r.c.alpha).get(r.c.h).get(r.c.tau).get(r.c.run);
+  in.get(r.status).get(r.steps).get(r.phi0).get(r.energy_ratio_exact).get(r.summary).get(r.jumps);
+  if (!in.done()) throw std::runtime_error("unpack_anomaly_run: trailing bytes");
+  return r;
 }
 
 const char* to_string(Precision p) {

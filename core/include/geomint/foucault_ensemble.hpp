@@ -232,6 +232,10 @@ struct AnomalyRun {
 // what "the vectorized, threaded and distributed ensembles give the same results" means.
 bool same_bits(const AnomalyRun& a, const AnomalyRun& b);
 
+// A run as bytes and back (for Sweep::map: gathering the runs of every MPI rank on rank 0), bit-exact.
+std::string pack(const AnomalyRun& r);
+AnomalyRun unpack_anomaly_run(const std::string& row);
+
 enum class Precision { double_, long_double, quad };  // quad: Boost.Multiprecision cpp_bin_float_quad
 const char* to_string(Precision p);
 
