@@ -541,6 +541,7 @@ std::vector<AnomalyCell> summarize_anomaly(const FoucaultScene& base, const std:
     std::vector<double> plane;
     long ok = 0, loss = 0;
     std::array<long, 3> over{0, 0, 0}, count{0, 0, 0};
+    std::array<std::vector<double>, 3> per_run;  // jumps per run, for the standard error of the mean
     double max_jump = std::nan("");
     for (const auto* r : rs) {
       ++c.runs;
@@ -552,8 +553,11 @@ std::vector<AnomalyCell> summarize_anomaly(const FoucaultScene& base, const std:
       const double jd = std::abs(r->summary.max.measured) * deg;
       for (std::size_t k = 0; k < 3; ++k) {
         if (jd > anomaly_jump_thresholds_deg[k]) ++over[k];
+        long mine = 0;
         for (const auto& J : r->jumps)
-          if (std::abs(J.measured) * deg > anomaly_jump_thresholds_deg[k]) ++count[k];
+          if (std::abs(J.measured) * deg > anomaly_jump_thresholds_deg[k]) ++mine;
+        count[k] += mine;
+        per_run[k].push_back(static_cast<double>(mine));
       }
       if (r->summary.energy_ratio_end < 0.99) ++loss;
       plane.push_back(std::abs(r->summary.plane_error) * deg);
@@ -561,12 +565,15 @@ std::vector<AnomalyCell> summarize_anomaly(const FoucaultScene& base, const std:
     }
     for (std::size_t k = 0; k < 3; ++k) {
       c.p_jump[k] = ok > 0 ? static_cast<double>(over[k]) / static_cast<double>(ok) : std::nan("");
+      c.p_jump_ci[k] = clopper_pearson(over[k], ok);
       c.p_predicted[k] = predicted_jump_probability(base, c.alpha, c.h, anomaly_jump_thresholds_deg[k] / deg);
       const bool complete = record_threshold * deg <= anomaly_jump_thresholds_deg[k];
       c.mean_jumps[k] = ok > 0 && complete ? static_cast<double>(count[k]) / static_cast<double>(ok) : std::nan("");
+      c.mean_jumps_se[k] = complete ? mean_se(per_run[k]).se : std::nan("");
       c.mean_predicted[k] = predicted_jump_count(base, c.alpha, c.h, anomaly_jump_thresholds_deg[k] / deg);
     }
     c.p_energy_loss = ok > 0 ? static_cast<double>(loss) / static_cast<double>(ok) : std::nan("");
+    c.p_energy_loss_ci = clopper_pearson(loss, ok);
     c.p_energy_predicted = predicted_jump_probability(base, c.alpha, c.h, std::asin(0.1));
     c.median_abs_plane_error_deg = quantile(plane, 0.5);
     c.p90_abs_plane_error_deg = quantile(plane, 0.9);

@@ -98,11 +98,17 @@ void render(const Figure& fig, const std::string& terminal, const std::filesyste
   for (auto& p : panels)
     for (auto& s : p.series) {
       if (!s.z.empty()) continue;  // heat maps keep their grid; NaN cells are drawn as background
+      const bool bars = !s.ylow.empty();
       Series clean{{}, {}, s.title, s.style, {}};
       for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
-        if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) {
+        if (std::isfinite(s.x[i]) && std::isfinite(s.y[i]) &&
+            (!bars || (std::isfinite(s.ylow.at(i)) && std::isfinite(s.yhigh.at(i))))) {
           clean.x.push_back(s.x[i]);
           clean.y.push_back(s.y[i]);
+          if (bars) {
+            clean.ylow.push_back(s.ylow[i]);
+            clean.yhigh.push_back(s.yhigh[i]);
+          }
         }
       s = std::move(clean);
     }
@@ -125,11 +131,14 @@ void render(const Figure& fig, const std::string& terminal, const std::filesyste
         // Points go as binary records: gnuplot reads inline text a few bytes per system call, which made
         // figures of tens of thousands of points take seconds.
         // Heat maps go as a binary grid of (x, y, z) records, x varying fastest, nx per row.
+        // Error bars: (x, y, ylow, yhigh) records.
         cmd += (first ? "" : ", ") +
-               (s.z.empty() ? "'-' binary" + gp.binFmt1d(std::make_pair(s.x, s.y), "record") + " using 1:2 with "
-                            : "'-' binary record=(" + std::to_string(grid_nx(s)) + "," +
-                                  std::to_string(s.z.size() / grid_nx(s)) +
-                                  ") format='%float64%float64%float64' using 1:2:3 with ") +
+               (!s.z.empty() ? "'-' binary record=(" + std::to_string(grid_nx(s)) + "," +
+                                   std::to_string(s.z.size() / grid_nx(s)) +
+                                   ") format='%float64%float64%float64' using 1:2:3 with "
+                : !s.ylow.empty() ? "'-' binary record=" + std::to_string(s.x.size()) +
+                                        " format='%float64%float64%float64%float64' using 1:2:3:4 with "
+                                  : "'-' binary" + gp.binFmt1d(std::make_pair(s.x, s.y), "record") + " using 1:2 with ") +
                s.style + (s.title.empty() ? std::string(" notitle") : " title " + quote(s.title));
         first = false;
       }
@@ -143,7 +152,12 @@ void render(const Figure& fig, const std::string& terminal, const std::filesyste
       gp << cmd << "\n";
       for (const auto& s : p.series) {
         if (s.x.empty()) continue;
-        if (s.z.empty()) {
+        if (!s.ylow.empty()) {
+          std::vector<double> rec;
+          rec.reserve(4 * s.x.size());
+          for (std::size_t i = 0; i < s.x.size(); ++i) rec.insert(rec.end(), {s.x[i], s.y[i], s.ylow[i], s.yhigh[i]});
+          gp.write(reinterpret_cast<const char*>(rec.data()), static_cast<std::streamsize>(rec.size() * sizeof(double)));
+        } else if (s.z.empty()) {
           gp.sendBinary1d(std::make_pair(s.x, s.y));
         } else {
           std::vector<double> xyz;

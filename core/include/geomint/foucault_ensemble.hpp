@@ -42,6 +42,7 @@
 
 #include "geomint/foucault.hpp"
 #include "geomint/simd.hpp"
+#include "geomint/stats.hpp"
 
 namespace geomint {
 
@@ -279,12 +280,15 @@ struct AnomalyCell {
   double alpha = 0, h = 0;
   long runs = 0, failed = 0;
   std::array<double, 3> p_jump{};       // share of ok runs with max |jump| > 1, 5, 20 deg
+  std::array<Interval, 3> p_jump_ci{};  // its 95 % Clopper–Pearson interval
   std::array<double, 3> p_predicted{};  // predicted_jump_probability for the same thresholds
   // mean number of half-swings per run with |jump| > 1, 5, 20 deg (NaN when the runs did not record jumps
   // that small), and its prediction N_pass 2 s h / sin K, which needs no independence between passes
   std::array<double, 3> mean_jumps{};
+  std::array<double, 3> mean_jumps_se{};  // standard error of mean_jumps
   std::array<double, 3> mean_predicted{};
   double p_energy_loss = 0;             // share of ok runs with energy_ratio_end < 0.99
+  Interval p_energy_loss_ci;            // its 95 % Clopper–Pearson interval
   double p_energy_predicted = 0;        // predicted: a jump with sin^2 > 0.01 (kappa > 5.74 deg)
   double median_abs_plane_error_deg = std::numeric_limits<double>::quiet_NaN();
   double p90_abs_plane_error_deg = std::numeric_limits<double>::quiet_NaN();
