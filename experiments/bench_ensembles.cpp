@@ -89,7 +89,8 @@ struct FloorLa {
 // The bare paper steps (15) and (18) written out by hand (the formulas of step_xy), no detector.
 struct LaNhFormula {
   template <class V>
-  static void step(const FoucaultParams<double>& p, double h, V xm, V ym, V x, V y, V& xn, V& yn) {
+  static GEOMINT_KERNEL_INLINE void step(const FoucaultParams<double>& p, double h, const V& xm, const V& ym,
+                                         const V& x, const V& y, V& xn, V& yn) {
     const double c = 1 / h + p.alpha, ih = 1 / h, ic = 1 / c, hw2 = h * p.w2, csh = c * p.s * h;
     const V lm = csh + (xm * y - ym * x) / (h * (x * x + y * y));
     xn = x + ((x - xm) * ih - hw2 * x + lm * y) * ic;
@@ -98,7 +99,8 @@ struct LaNhFormula {
 };
 struct ContactNhFormula {
   template <class V>
-  static void step(const FoucaultParams<double>& p, double h, V xm, V ym, V x, V y, V& xn, V& yn) {
+  static GEOMINT_KERNEL_INLINE void step(const FoucaultParams<double>& p, double h, const V& xm, const V& ym,
+                                         const V& x, const V& y, V& xn, V& yn) {
     const double damp = 1 - h * p.alpha, hh = h * h, k = hh * p.w2 * (1 - h * p.alpha / 2), sh = p.s * h;
     const V r2 = x * x + y * y;
     const V g = hh * ((sh * r2 + damp * (xm * y - ym * x)) / (hh * r2));
