@@ -246,7 +246,7 @@ struct Batch {
       bxn[kLanes], byn[kLanes];
   // rotation: anchor e(phi) and the line e(phi_j) of the current point
   alignas(64) double a0[kLanes], a1[kLanes], le0[kLanes], le1[kLanes], phi0[kLanes];
-  alignas(64) std::int64_t flag[kLanes];  // 1: turning point, 2: failed step
+  alignas(64) double flag[kLanes];  // 1: turning point, 2: failed step, 3: both
   bool dead[kLanes];
   std::vector<AnomalyDetector<double>> det;
   std::vector<std::string> status;
@@ -265,7 +265,7 @@ struct Batch {
   __attribute__((noinline)) void events(long j) {
     for (std::size_t i = 0; i < n; ++i) {
       if (flag[i] == 0 || dead[i]) continue;
-      if (flag[i] & 2) {  // the failure the scalar path throws at this step
+      if (flag[i] >= 2) {  // the failure the scalar path throws at this step
         try {
           if (Paper) schemes::detail::require_solvable(xm[i] * xm[i] + ym[i] * ym[i], j);
           throw state_failure(j);
@@ -338,10 +338,13 @@ GEOMINT_KERNEL_INLINE std::int64_t batch_step(Batch& B, const RotationTable<doub
       B.bxn[i] = better ? xn : B.bxn[i];
       B.byn[i] = better ? yn : B.byn[i];
     }
-    const bool turning = is_turning_point(first, r2m, r2, rn2);
-    const std::int64_t f = (turning ? 1 : 0) | (bad ? 2 : 0);
+    // the event flag in the lanes' own width (a double: 1 turning point, 2 failure, 3 both), so it costs one
+    // blend; `any` is the OR of its bits, kept in 64-bit integers
+    const double f = (is_turning_point(first, r2m, r2, rn2) ? 1.0 : 0.0) + (bad ? 2.0 : 0.0);
     B.flag[i] = f;
-    any |= f;
+    std::int64_t fi;
+    std::memcpy(&fi, &f, sizeof fi);
+    any |= fi;
     B.xm[i] = x;
     B.ym[i] = y;
     B.x[i] = xn;
