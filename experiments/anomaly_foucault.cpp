@@ -461,11 +461,11 @@ int main(int argc, char** argv) {
         auto xm = jt.numbers("predicted_jump_deg", keep), ym = jt.numbers("measured_jump_deg", keep);
         for (auto& v : xm) v = std::abs(v);
         for (auto& v : ym) v = std::abs(v);
-        pj.series.push_back({xm, ym, n, plots::style_for(n, "points pt 7 ps 0.5")});
+        pj.series.push_back({xm, ym, n, plots::style_for(n, "points pt 5 ps 0.35")});
         auto xe = jt.numbers("predicted_energy_loss", keep), ye = jt.numbers("energy_loss", keep);
         for (std::size_t i = 0; i < ye.size(); ++i)
           if (!(ye[i] > 0) || !(xe[i] > 1e-9)) ye[i] = NaN;  // below the smooth energy error: not the kick
-        pe.series.push_back({xe, ye, n, plots::style_for(n, "points pt 7 ps 0.5")});
+        pe.series.push_back({xe, ye, n, plots::style_for(n, "points pt 5 ps 0.35")});
       }
       pj.extra_plots = "x title 'identity' lw 1 dt 2 lc rgb '#222222'";
       pe.extra_plots = "x title 'identity' lw 1 dt 2 lc rgb '#222222'";
