@@ -275,6 +275,17 @@ LinearStep<T> to_rotation_system(LinearStep<T> ls, const FoucaultParams<T>& p, c
   return ls;
 }
 
+// A paper step of either scheme through its component form: check r_j^2, solve, repack.
+template <class Scheme, class T>
+void paper_step(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h, Vec2<T>& qn, T& lambda1, long j) {
+  const T r2 = q.squaredNorm();
+  require_solvable(r2, j);
+  T xn, yn, lm;
+  Scheme::step_xy(p, h, qm(0), qm(1), q(0), q(1), r2, xn, yn, lm);
+  qn = Vec2<T>(xn, yn);
+  lambda1 = lm * p.m;
+}
+
 // The constraint row of a rotation step, shared by both schemes: q_{j+1} = qh - mu n(phi_j) with
 // n(phi_{j+1}).q_{j+1} = 0, built in the basis of the new line (n(phi_{j+1}) = (-e1, e0)).
 template <class T>
@@ -349,12 +360,7 @@ struct LaNh {
   template <class T>
   static void step(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h, Vec2<T>& qn, T& lambda1,
                    long j = -1) {
-    const T r2 = q.squaredNorm();
-    detail::require_solvable(r2, j);
-    T xn, yn, lm;
-    step_xy(p, h, qm(0), qm(1), q(0), q(1), r2, xn, yn, lm);
-    qn = Vec2<T>(xn, yn);
-    lambda1 = lm * p.m;
+    detail::paper_step<LaNh>(p, qm, q, h, qn, lambda1, j);
   }
 
   // The closed form in components, r2 = x^2 + y^2 given: what step() and the structure-of-arrays ensembles
@@ -480,12 +486,7 @@ struct ContactNh {
   template <class T>
   static void step(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h, Vec2<T>& qn, T& lambda1,
                    long j = -1) {
-    const T r2 = q.squaredNorm();
-    detail::require_solvable(r2, j);
-    T xn, yn, lm;
-    step_xy(p, h, qm(0), qm(1), q(0), q(1), r2, xn, yn, lm);
-    qn = Vec2<T>(xn, yn);
-    lambda1 = lm * p.m;
+    detail::paper_step<ContactNh>(p, qm, q, h, qn, lambda1, j);
   }
 
   // In components, r2 = x^2 + y^2 given (shared with the ensembles; see LaNh::step_xy). lm = lambda_1 / m.
