@@ -179,7 +179,7 @@ int main(int argc, char** argv) {
 
     // ---- oscillator: M trajectories (96 KB of state: cache-resident), Ne steps per call
     const std::size_t M = 4096;
-    const long Ne = 4000;
+    const long Ne = 20000;  // ~7 ms per call at the floor: a thread's start-up is noise
     const double h = 0.01, alpha = 0.1;
     auto init = [&](OscEnsemble& e) {
       for (std::size_t i = 0; i < M; ++i) {

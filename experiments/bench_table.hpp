@@ -29,7 +29,10 @@ class Table {
 
   // Splits argv into Google Benchmark's own flags (--benchmark_*, handed to it) and the program's.
   static std::vector<char*> split_args(int& argc, char** argv) {
-    std::vector<char*> mine{argv[0]}, theirs{argv[0]};
+    // Repetitions of all cases are interleaved in random order by default, so a slow spell of a shared machine
+    // spreads over every case instead of skewing the ratio of two neighbours (flags given later override it).
+    static char interleave[] = "--benchmark_enable_random_interleaving=true";
+    std::vector<char*> mine{argv[0]}, theirs{argv[0], interleave};
     for (int i = 1; i < argc; ++i) (std::string(argv[i]).rfind("--benchmark_", 0) == 0 ? theirs : mine).push_back(argv[i]);
     int n = static_cast<int>(theirs.size());
     benchmark::Initialize(&n, theirs.data());
@@ -91,7 +94,7 @@ class Table {
         for (auto& r : t_.rows_)
           if (r.name == run.run_name.function_name) {
             r.seconds.push_back(run.real_accumulated_time / static_cast<double>(run.iterations));
-            if (static_cast<int>(r.seconds.size()) == run.repetitions) {
+            if (static_cast<long>(r.seconds.size()) == static_cast<long>(run.repetitions)) {
               std::vector<double> v = r.seconds;
               std::sort(v.begin(), v.end());
               std::printf("  %-44s %9.3f ns/step  (min %.3f, max %.3f, %d reps)\n", r.name.c_str(),
