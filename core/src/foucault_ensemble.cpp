@@ -238,7 +238,8 @@ struct Batch {
   FoucaultParams<double> p;
   double h = 0;
   long N = 0;
-  std::size_t n = 0;  // lanes in use (the rest repeat lane 0 and are ignored)
+  std::size_t n = 0;      // lanes in use
+  std::size_t width = 0;  // lanes stepped: n rounded up to a multiple of 8 (any vector width); the extra repeat a live lane
   // per lane (structure of arrays)
   alignas(64) double xm[kLanes], ym[kLanes], x[kLanes], y[kLanes];
   // landing candidate of the current half-swing (AnomalyLanding); bj < 0: none
@@ -265,15 +266,18 @@ struct Batch {
   __attribute__((noinline)) void events(long j) {
     for (std::size_t i = 0; i < n; ++i) {
       if (flag[i] == 0 || dead[i]) continue;
-      if (flag[i] >= 2) {  // the failure the scalar path throws at this step
+      if (flag[i] >= 2) {  // a failure, as the scalar path throws it, or only |q_{j+1}|^2 out of range
         try {
           if (Paper) schemes::detail::require_solvable(xm[i] * xm[i] + ym[i] * ym[i], j);
-          throw state_failure(j);
+          if (!std::isfinite(x[i]) || !std::isfinite(y[i])) throw state_failure(j);
+          // q_{j+1} is finite but its square overflows: the paper step j + 1 will refuse it
+          if (Paper) schemes::detail::require_solvable(x[i] * x[i] + y[i] * y[i], j + 1);
         } catch (const NumericalFailure& e) {
           status[i] = e.what();
+          dead[i] = true;
+          continue;
         }
-        dead[i] = true;
-        continue;
+        if (flag[i] < 3) continue;  // no turning point either
       }
       AnomalyLanding<double> L;
       if (bj[i] >= 0) {
@@ -290,7 +294,7 @@ struct Batch {
   }
 
   __attribute__((noinline)) void anchors(long j) {
-    for (std::size_t i = 0; i < kLanes; ++i) {
+    for (std::size_t i = 0; i < width; ++i) {
       const FoucaultLine<double> L = foucault_line<double>(phi0[i] - p.s * (static_cast<double>(j + 1) * h));
       a0[i] = L.e(0);
       a1[i] = L.e(1);
@@ -306,26 +310,27 @@ GEOMINT_KERNEL_INLINE std::int64_t batch_step(Batch& B, const RotationTable<doub
   const double h = B.h, jd = static_cast<double>(j);
   const bool first = j == 0;
   std::int64_t any = 0;
+  const std::size_t width = B.width;
 #pragma GCC ivdep
-  for (std::size_t i = 0; i < kLanes; ++i) {
+  for (std::size_t i = 0; i < width; ++i) {
     const double xm = B.xm[i], ym = B.ym[i], x = B.x[i], y = B.y[i];
     // |q_{j-1}|^2 and |q_j|^2 recomputed (the same products as when they were |q_{j+1}|^2): cheaper than storing
     const double r2m = xm * xm + ym * ym, r2 = x * x + y * y;
     double xn, yn, unused;
-    bool bad;
     if constexpr (Paper) {
       Scheme::step_xy(p, h, xm, ym, x, y, r2, xn, yn, unused);
-      bad = !(r2 > 0) | !(r2 <= kMax);
     } else {
       double e0, e1;
       rot.line(b, B.a0[i], B.a1[i], e0, e1);
       Scheme::step_rotation_xy(p, h, xm, ym, x, y, -B.le1[i], B.le0[i], e0, e1, xn, yn, unused);
       B.le0[i] = e0;
       B.le1[i] = e1;
-      bad = false;
     }
-    bad = bad | !(std::abs(xn) <= kMax) | !(std::abs(yn) <= kMax);
     const double rn2 = xn * xn + yn * yn;
+    // one test for a non-finite q_{j+1} (or a square that overflows: events() tells them apart) and, for the
+    // paper step, q_j at the origin (r_j^2 = 0; an infinite r_j^2 was flagged the step before)
+    bool bad = !(rn2 <= kMax);
+    if constexpr (Paper) bad = bad | !(r2 > 0);
     const bool better = !first & landing_is_better(r2m, r2, B.br2m[i], B.br2[i]);
     B.br2m[i] = better ? r2m : B.br2m[i];
     B.br2[i] = better ? r2 : B.br2[i];
@@ -381,6 +386,7 @@ void run_batch(const FoucaultScene& base, const AnomalyCase* cases, std::size_t 
   auto B = std::make_unique<Batch>(FoucaultParams<double>(sc0));
   B->h = c0.h;
   B->n = n;
+  B->width = std::min(kLanes, (n + 7) / 8 * 8);
   B->N = step_count(c0.h, base.T);
   const bool paper = c0.constraint == FoucaultConstraint::paper;
   std::vector<FoucaultScene> scenes(n);
