@@ -187,138 +187,7 @@ int main(int argc, char** argv) {
                 c.mean_predicted[2]);
       tsv.commit();
     }
-    long total_runs = 0, total_failed = 0;
-    double total_steps = 0;
-    for (const auto& r : results) {
-      ++total_runs;
-      total_steps += static_cast<double>(r.steps);
-      if (r.status != "ok") ++total_failed;
-    }
-    std::printf("Foucault pendulum, T = %g s, %ld runs per row (start shifted by tau = h (k + 1/2)/%ld), "
-                "%ld runs, %.3g steps in %.1f s on %d process(es) x %u threads (%s), %ld failed\n",
-                base.T, runs, runs, total_runs, total_steps, t_ensemble, sweep.size(), threads, to_string(simd),
-                total_failed);
-    std::printf("P>K: share of runs whose plane jumps by more than K in one half-swing, [95%% Clopper-Pearson interval] "
-                "(predicted: 1 - exp(-N_pass 2 s h / sin K));\n"
-                "E-1%%: share of runs ending > 1%% below E0 e^-at; |dplane|: |final plane angle - exact| (deg)\n");
-    std::printf("%-10s %-8s %-6s %-6s %5s %4s %27s %27s %27s %27s %9s %9s %9s\n", "scheme", "constr", "alpha", "h",
-                "runs", "fail", "P>1deg [CI] (pred)", "P>5deg [CI] (pred)", "P>20deg [CI] (pred)", "E-1% [CI] (pred)",
-                "med|dpl|", "p90|dpl|", "max jump");
-    for (const auto& c : cells) {
-      const bool rot = c.constraint == FoucaultConstraint::rotation;
-      auto pp = [&](double p, const Interval& ci, double pred) {
-        char b[64];
-        if (rot)
-          std::snprintf(b, sizeof b, "%.3f [%.3f,%.3f]", p, ci.lo, ci.hi);
-        else
-          std::snprintf(b, sizeof b, "%.3f [%.3f,%.3f] (%.3f)", p, ci.lo, ci.hi, pred);
-        return std::string(b);
-      };
-      std::printf("%-10s %-8s %-6g %-6g %5ld %4ld %27s %27s %27s %27s %9.3g %9.3g %9.3g\n", c.scheme.c_str(),
-                  to_string(c.constraint), c.alpha, c.h, c.runs, c.failed,
-                  pp(c.p_jump[0], c.p_jump_ci[0], c.p_predicted[0]).c_str(),
-                  pp(c.p_jump[1], c.p_jump_ci[1], c.p_predicted[1]).c_str(),
-                  pp(c.p_jump[2], c.p_jump_ci[2], c.p_predicted[2]).c_str(),
-                  pp(c.p_energy_loss, c.p_energy_loss_ci, c.p_energy_predicted).c_str(), c.median_abs_plane_error_deg,
-                  c.p90_abs_plane_error_deg, c.max_jump_deg);
-    }
-
-    std::printf("\njumps per run (paper discretization): mean number of half-swings turning by more than K, measured "
-                "+- standard error (expected N_pass 2 s h / sin K, exact in expectation for uniform landings)\n");
-    std::printf("%-10s %-6s %-6s %25s %25s %25s\n", "scheme", "alpha", "h", ">1deg", ">5deg", ">20deg");
-    for (const auto& c : cells) {
-      if (c.constraint != FoucaultConstraint::paper) continue;
-      std::printf("%-10s %-6g %-6g", c.scheme.c_str(), c.alpha, c.h);
-      for (std::size_t k = 0; k < 3; ++k)
-        std::printf("   %6.3f +- %5.3f (%6.3f)", c.mean_jumps[k], c.mean_jumps_se[k], c.mean_predicted[k]);
-      std::printf("\n");
-    }
-
-    // ---- the cause: measured against predicted, over every recorded jump of the paper's discretization
-    {
-      double worst_rel = 0, worst_rel_big = 0, worst_loss = 0;
-      long n = 0, n_big = 0, sign_ok = 0;
-      for (const auto& r : results)
-        for (const auto& J : r.jumps) {
-          if (r.c.constraint != FoucaultConstraint::paper) continue;
-          ++n;
-          const double rel = std::abs(J.measured - J.predicted) / std::abs(J.predicted);
-          worst_rel = std::max(worst_rel, rel);
-          if (J.measured * J.predicted > 0) ++sign_ok;
-          if (std::abs(J.predicted) * deg >= 1) {
-            ++n_big;
-            worst_rel_big = std::max(worst_rel_big, rel);
-            // The energy loss is measured from the previous turning point; the first half-swing starts at
-            // t = 0, which is not one (tau > 0) and carries the start's own energy offset: left out.
-            const double pl = std::pow(std::sin(J.predicted - s * r.c.h), 2);
-            if (J.j_prev_turn > 0) worst_loss = std::max(worst_loss, std::abs(J.energy_loss - pl) / pl);
-          }
-        }
-      std::printf("\ncause (paper discretization): %ld half-swings turned by > %g deg; the sign of the prediction "
-                  "held in %ld of them;\n  |measured - predicted| / |predicted| <= %.2e over all of them, <= %.2e "
-                  "over the %ld with |predicted| >= 1 deg\n  (energy loss against sin^2 of the landing turn: <= %.2e "
-                  "relative over those, first half-swings left out)\n",
-                  n, record_deg, sign_ok, worst_rel, worst_rel_big, n_big, worst_loss);
-    }
-
-    // ---- the worst cases again, in long double and quad, up to just past the jump
-    {
-      TsvWriter tsv(dir / "anomaly_foucault_precision.tsv", "anomaly_foucault", params,
-                    {"scheme", "constraint", "alpha", "h", "run", "tau", "precision", "mode", "steps_run", "status",
-                     "j_land", "t_land", "r_j", "rho", "measured_jump_deg", "predicted_jump_deg", "energy_loss",
-                     "jump_rel_diff_vs_double"});
-      std::printf("\nworst cases rerun (up to the turning point after the jump; quad from t = 0 when <= %ld steps, "
-                  "else from the double state 2 steps before the previous turning point):\n",
-                  quad_full_steps);
-      std::printf("%-10s %-7s %-6s %4s %-11s %-7s %8s %10s %12s %14s %10s\n", "scheme", "alpha", "h", "run",
-                  "precision", "mode", "t_land", "r_j (m)", "rho", "jump (deg)", "rel diff");
-      for (const auto& n : names) {
-        std::vector<const AnomalyRun*> cand;
-        for (const auto& r : results)
-          if (r.c.scheme == n && r.c.constraint == FoucaultConstraint::paper && r.status == "ok" &&
-              std::isfinite(r.summary.max.measured))
-            cand.push_back(&r);
-        std::sort(cand.begin(), cand.end(), [](const AnomalyRun* a, const AnomalyRun* b) {
-          return std::abs(a->summary.max.measured) > std::abs(b->summary.max.measured);
-        });
-        for (int k = 0; k < worst && k < static_cast<int>(cand.size()); ++k) {
-          const AnomalyRun& r = *cand[static_cast<std::size_t>(k)];
-          const FoucaultJump& J = r.summary.max;
-          const long stop = std::min(r.steps, J.j_turn + 2);
-          struct Rerun {
-            Precision p;
-            std::string mode;
-            AnomalyRun run;
-          };
-          std::vector<Rerun> reruns;
-          reruns.push_back({Precision::double_, "full", run_anomaly(base, r.c, record_deg / deg, Precision::double_, stop)});
-          reruns.push_back(
-              {Precision::long_double, "full", run_anomaly(base, r.c, record_deg / deg, Precision::long_double, stop)});
-          if (stop <= quad_full_steps)
-            reruns.push_back({Precision::quad, "full", run_anomaly(base, r.c, record_deg / deg, Precision::quad, stop)});
-          else
-            reruns.push_back({Precision::quad, "segment",
-                              rerun_anomaly_segment(base, r.c, record_deg / deg, Precision::quad,
-                                                    std::max(1L, J.j_prev_turn - 2), stop)});
-          const double jd = reruns.front().run.summary.max.measured;
-          for (const auto& rr : reruns) {
-            const auto& M = rr.run.summary.max;
-            const bool ok = rr.run.status == "ok";
-            const double rel = ok ? std::abs(M.measured - jd) / std::abs(jd) : NaN;
-            tsv.row(n, to_string(r.c.constraint), r.c.alpha, r.c.h, r.c.run, r.c.tau, to_string(rr.p), rr.mode,
-                    stop, rr.run.status, ok ? M.j_land : -1L, ok ? M.t_land : NaN, ok ? M.r_land : NaN,
-                    ok ? M.rho : NaN, ok ? M.measured * deg : NaN, ok ? M.predicted * deg : NaN,
-                    ok ? M.energy_loss : NaN, rel);
-            std::printf("%-10s %-7g %-6g %4ld %-11s %-7s %8.1f %10.4e %12.6e %14.9f %10.2e\n", n.c_str(), r.c.alpha,
-                        r.c.h, r.c.run, to_string(rr.p), rr.mode.c_str(), M.t_land, M.r_land, M.rho,
-                        M.measured * deg, rel);
-          }
-        }
-      }
-      tsv.commit();
-    }
-
-    // ---- figures, from the saved files
+    // ---- figures, from the saved files; gnuplot draws them while the tables are printed and the worst cases rerun
     const auto sum = plots::read_tsv(dir / "anomaly_foucault_summary.tsv");
     const auto rt = plots::read_tsv(dir / "anomaly_foucault_runs.tsv");
     const auto jt = plots::read_tsv(dir / "anomaly_foucault_jumps.tsv");
@@ -519,6 +388,137 @@ int main(int argc, char** argv) {
         fig.draw(stem);
       }));
     }
+    long total_runs = 0, total_failed = 0;
+    double total_steps = 0;
+    for (const auto& r : results) {
+      ++total_runs;
+      total_steps += static_cast<double>(r.steps);
+      if (r.status != "ok") ++total_failed;
+    }
+    std::printf("Foucault pendulum, T = %g s, %ld runs per row (start shifted by tau = h (k + 1/2)/%ld), "
+                "%ld runs, %.3g steps in %.1f s on %d process(es) x %u threads (%s), %ld failed\n",
+                base.T, runs, runs, total_runs, total_steps, t_ensemble, sweep.size(), threads, to_string(simd),
+                total_failed);
+    std::printf("P>K: share of runs whose plane jumps by more than K in one half-swing, [95%% Clopper-Pearson interval] "
+                "(predicted: 1 - exp(-N_pass 2 s h / sin K));\n"
+                "E-1%%: share of runs ending > 1%% below E0 e^-at; |dplane|: |final plane angle - exact| (deg)\n");
+    std::printf("%-10s %-8s %-6s %-6s %5s %4s %27s %27s %27s %27s %9s %9s %9s\n", "scheme", "constr", "alpha", "h",
+                "runs", "fail", "P>1deg [CI] (pred)", "P>5deg [CI] (pred)", "P>20deg [CI] (pred)", "E-1% [CI] (pred)",
+                "med|dpl|", "p90|dpl|", "max jump");
+    for (const auto& c : cells) {
+      const bool rot = c.constraint == FoucaultConstraint::rotation;
+      auto pp = [&](double p, const Interval& ci, double pred) {
+        char b[64];
+        if (rot)
+          std::snprintf(b, sizeof b, "%.3f [%.3f,%.3f]", p, ci.lo, ci.hi);
+        else
+          std::snprintf(b, sizeof b, "%.3f [%.3f,%.3f] (%.3f)", p, ci.lo, ci.hi, pred);
+        return std::string(b);
+      };
+      std::printf("%-10s %-8s %-6g %-6g %5ld %4ld %27s %27s %27s %27s %9.3g %9.3g %9.3g\n", c.scheme.c_str(),
+                  to_string(c.constraint), c.alpha, c.h, c.runs, c.failed,
+                  pp(c.p_jump[0], c.p_jump_ci[0], c.p_predicted[0]).c_str(),
+                  pp(c.p_jump[1], c.p_jump_ci[1], c.p_predicted[1]).c_str(),
+                  pp(c.p_jump[2], c.p_jump_ci[2], c.p_predicted[2]).c_str(),
+                  pp(c.p_energy_loss, c.p_energy_loss_ci, c.p_energy_predicted).c_str(), c.median_abs_plane_error_deg,
+                  c.p90_abs_plane_error_deg, c.max_jump_deg);
+    }
+
+    std::printf("\njumps per run (paper discretization): mean number of half-swings turning by more than K, measured "
+                "+- standard error (expected N_pass 2 s h / sin K, exact in expectation for uniform landings)\n");
+    std::printf("%-10s %-6s %-6s %25s %25s %25s\n", "scheme", "alpha", "h", ">1deg", ">5deg", ">20deg");
+    for (const auto& c : cells) {
+      if (c.constraint != FoucaultConstraint::paper) continue;
+      std::printf("%-10s %-6g %-6g", c.scheme.c_str(), c.alpha, c.h);
+      for (std::size_t k = 0; k < 3; ++k)
+        std::printf("   %6.3f +- %5.3f (%6.3f)", c.mean_jumps[k], c.mean_jumps_se[k], c.mean_predicted[k]);
+      std::printf("\n");
+    }
+
+    // ---- the cause: measured against predicted, over every recorded jump of the paper's discretization
+    {
+      double worst_rel = 0, worst_rel_big = 0, worst_loss = 0;
+      long n = 0, n_big = 0, sign_ok = 0;
+      for (const auto& r : results)
+        for (const auto& J : r.jumps) {
+          if (r.c.constraint != FoucaultConstraint::paper) continue;
+          ++n;
+          const double rel = std::abs(J.measured - J.predicted) / std::abs(J.predicted);
+          worst_rel = std::max(worst_rel, rel);
+          if (J.measured * J.predicted > 0) ++sign_ok;
+          if (std::abs(J.predicted) * deg >= 1) {
+            ++n_big;
+            worst_rel_big = std::max(worst_rel_big, rel);
+            // The energy loss is measured from the previous turning point; the first half-swing starts at
+            // t = 0, which is not one (tau > 0) and carries the start's own energy offset: left out.
+            const double pl = std::pow(std::sin(J.predicted - s * r.c.h), 2);
+            if (J.j_prev_turn > 0) worst_loss = std::max(worst_loss, std::abs(J.energy_loss - pl) / pl);
+          }
+        }
+      std::printf("\ncause (paper discretization): %ld half-swings turned by > %g deg; the sign of the prediction "
+                  "held in %ld of them;\n  |measured - predicted| / |predicted| <= %.2e over all of them, <= %.2e "
+                  "over the %ld with |predicted| >= 1 deg\n  (energy loss against sin^2 of the landing turn: <= %.2e "
+                  "relative over those, first half-swings left out)\n",
+                  n, record_deg, sign_ok, worst_rel, worst_rel_big, n_big, worst_loss);
+    }
+
+    // ---- the worst cases again, in long double and quad, up to just past the jump
+    {
+      TsvWriter tsv(dir / "anomaly_foucault_precision.tsv", "anomaly_foucault", params,
+                    {"scheme", "constraint", "alpha", "h", "run", "tau", "precision", "mode", "steps_run", "status",
+                     "j_land", "t_land", "r_j", "rho", "measured_jump_deg", "predicted_jump_deg", "energy_loss",
+                     "jump_rel_diff_vs_double"});
+      std::printf("\nworst cases rerun (up to the turning point after the jump; quad from t = 0 when <= %ld steps, "
+                  "else from the double state 2 steps before the previous turning point):\n",
+                  quad_full_steps);
+      std::printf("%-10s %-7s %-6s %4s %-11s %-7s %8s %10s %12s %14s %10s\n", "scheme", "alpha", "h", "run",
+                  "precision", "mode", "t_land", "r_j (m)", "rho", "jump (deg)", "rel diff");
+      for (const auto& n : names) {
+        std::vector<const AnomalyRun*> cand;
+        for (const auto& r : results)
+          if (r.c.scheme == n && r.c.constraint == FoucaultConstraint::paper && r.status == "ok" &&
+              std::isfinite(r.summary.max.measured))
+            cand.push_back(&r);
+        std::sort(cand.begin(), cand.end(), [](const AnomalyRun* a, const AnomalyRun* b) {
+          return std::abs(a->summary.max.measured) > std::abs(b->summary.max.measured);
+        });
+        for (int k = 0; k < worst && k < static_cast<int>(cand.size()); ++k) {
+          const AnomalyRun& r = *cand[static_cast<std::size_t>(k)];
+          const FoucaultJump& J = r.summary.max;
+          const long stop = std::min(r.steps, J.j_turn + 2);
+          struct Rerun {
+            Precision p;
+            std::string mode;
+            AnomalyRun run;
+          };
+          std::vector<Rerun> reruns;
+          reruns.push_back({Precision::double_, "full", run_anomaly(base, r.c, record_deg / deg, Precision::double_, stop)});
+          reruns.push_back(
+              {Precision::long_double, "full", run_anomaly(base, r.c, record_deg / deg, Precision::long_double, stop)});
+          if (stop <= quad_full_steps)
+            reruns.push_back({Precision::quad, "full", run_anomaly(base, r.c, record_deg / deg, Precision::quad, stop)});
+          else
+            reruns.push_back({Precision::quad, "segment",
+                              rerun_anomaly_segment(base, r.c, record_deg / deg, Precision::quad,
+                                                    std::max(1L, J.j_prev_turn - 2), stop)});
+          const double jd = reruns.front().run.summary.max.measured;
+          for (const auto& rr : reruns) {
+            const auto& M = rr.run.summary.max;
+            const bool ok = rr.run.status == "ok";
+            const double rel = ok ? std::abs(M.measured - jd) / std::abs(jd) : NaN;
+            tsv.row(n, to_string(r.c.constraint), r.c.alpha, r.c.h, r.c.run, r.c.tau, to_string(rr.p), rr.mode,
+                    stop, rr.run.status, ok ? M.j_land : -1L, ok ? M.t_land : NaN, ok ? M.r_land : NaN,
+                    ok ? M.rho : NaN, ok ? M.measured * deg : NaN, ok ? M.predicted * deg : NaN,
+                    ok ? M.energy_loss : NaN, rel);
+            std::printf("%-10s %-7g %-6g %4ld %-11s %-7s %8.1f %10.4e %12.6e %14.9f %10.2e\n", n.c_str(), r.c.alpha,
+                        r.c.h, r.c.run, to_string(rr.p), rr.mode.c_str(), M.t_land, M.r_land, M.rho,
+                        M.measured * deg, rel);
+          }
+        }
+      }
+      tsv.commit();
+    }
+
     for (auto& d : draws) d.get();  // rethrows a failed drawing
     std::printf("\nanomaly_foucault: %.1f s in all (ensemble %.1f s)\n", elapsed(), t_ensemble);
     return 0;
