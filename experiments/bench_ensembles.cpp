@@ -267,7 +267,7 @@ int main(int argc, char** argv) {
     base.T = 360;
     const double hf = 0.01, af = 1e-4, thr = 0.1 * foucault_pi / 180;
     const long Nf = step_count(hf, base.T);
-    const long R = 128;  // runs per ensemble call: two batches of 64 (one per thread with two threads)
+    const long R = 256;  // runs per ensemble call: two batches of 128 (one per thread with two threads)
     for (const char* sn : {"la-nh", "contact-nh"})
       for (auto con : {FoucaultConstraint::paper, FoucaultConstraint::rotation}) {
         const auto cases = anomaly_cases({hf}, {af}, {sn}, {con}, R);

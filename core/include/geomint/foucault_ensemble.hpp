@@ -264,7 +264,7 @@ std::vector<AnomalyCase> anomaly_cases(const std::vector<double>& hs, const std:
 // Runs every case on `threads` threads (std::thread, each pulling the next work item). progress(done, total)
 // is called from the calling thread about every 0.1 s and once at the end.
 // simd: Simd::scalar runs each case through run_anomaly (one trajectory at a time); sse2/avx2/avx512 step up
-// to 64 consecutive cases of one cell (scheme, constraint, alpha, h) together in structure-of-arrays form,
+// to 128 consecutive cases of one cell (scheme, constraint, alpha, h) together in structure-of-arrays form,
 // vectorized for that instruction set. Every choice, and every thread count, gives the same bits
 // (tests/simd_ensemble.test.cpp).
 std::vector<AnomalyRun> run_anomaly_ensemble(const FoucaultScene& base, const std::vector<AnomalyCase>& cases,
