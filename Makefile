@@ -5,7 +5,7 @@ OUT       ?= out
 JOBS      ?= $(shell nproc 2>/dev/null || echo 2)
 PACKAGES  := cmake make g++ git libeigen3-dev libgsl-dev libboost-dev libboost-program-options-dev \
              libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev catch2 \
-             libgnuplot-iostream-dev gnuplot-nox
+             libgnuplot-iostream-dev gnuplot-nox libbenchmark-dev libopenmpi-dev openmpi-bin
 # Warnings are errors in CI.
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,)
 # Every figure and table with the paper's defaults, in this order.
@@ -68,10 +68,13 @@ figures: build
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
-# Nanoseconds per step, baselines, subnormals, ensembles (timings: never part of make test).
+# Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor
+# (Google Benchmark; timings: never part of make test).
 bench: build
 	@mkdir -p $(OUT)
 	@$(BUILD)/experiments/bench_steps --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_ensembles --out $(OUT)
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

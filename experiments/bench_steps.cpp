@@ -1,9 +1,9 @@
 // Benchmark (make bench): nanoseconds per step of every geomint oscillator scheme against a bare
 // hand-written loop of the same formulas and against Boost.Odeint and GSL baselines on the same problem;
-// subnormal slow-down and its remedy; ensemble throughput on one and two cores.
-// Medians over repetitions; every ratio is between medians measured in this run.
-//   bench_steps [--steps 2000000] [--reps 9] [--out out]
-// Writes out/bench_steps.tsv (timings: not reproducible bit for bit, by nature).
+// subnormal slow-down and its remedy. (Ensembles: bench_ensembles.) Timed with Google Benchmark: medians over
+// repetitions; every ratio is between medians measured in this run.
+//   bench_steps [--steps 2000000] [--reps 9] [--out out] [--benchmark_filter=...]
+// Writes out/bench_steps.tsv and out/bench_ratios.tsv (timings: not reproducible bit for bit, by nature).
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -14,8 +14,8 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
+#include "bench_table.hpp"
 #include "geomint/cli.hpp"
-#include "geomint/ensemble.hpp"
 #include "geomint/error.hpp"
 #include "geomint/foucault.hpp"
 #include "geomint/fp_env.hpp"
@@ -29,13 +29,6 @@ namespace odeint = boost::numeric::odeint;
 using State2 = std::array<double, 2>;
 
 namespace {
-
-struct Row {
-  std::string group, name;
-  TimingStats t;
-  double units;  // steps (or trajectory-steps) per timed call
-  double ns() const { return t.median / units * 1e9; }
-};
 
 template <class S>
 double run_library(long N, double h, double alpha) {
@@ -56,24 +49,20 @@ int gsl_rhs(double, const double y[], double f[], void* params) {
 
 int main(int argc, char** argv) {
   return guarded_main("bench_steps", [&] {
+    auto args = bench::Table::split_args(argc, argv);
     long N = 2000000;
     int reps = 9;
-    Cli cli("bench_steps", "ns per step of every scheme, baselines, subnormals, ensembles");
+    Cli cli("bench_steps", "ns per step of every scheme, baselines, subnormals");
     cli.options.add_options()("steps", po::value(&N)->default_value(N), "steps per timed run")(
         "reps", po::value(&reps)->default_value(reps), "timed repetitions (median reported)");
-    if (!cli.parse(argc, argv)) return 0;
+    if (!cli.parse(argc, args.data())) return 0;
     require(N >= 1000, "steps must be at least 1000");
     require(reps >= 3, "reps must be at least 3");
     const auto dir = prepare_output_dir(cli.out);
     const double h = 0.01, alpha = 0.1, tol = 1e-10;
-    std::vector<Row> rows;
-    auto add = [&](const std::string& g, const std::string& n, double units, auto&& fn) {
-      rows.push_back({g, n, time_median(fn, reps), units});
-      std::printf("  %-28s %10.3f ns/step\n", n.c_str(), rows.back().ns());
-      std::fflush(stdout);
-    };
+    bench::Table table(reps, 0.05);
+    auto add = [&](const std::string& g, const std::string& n, double units, auto fn) { table.add(g, n, units, fn); };
 
-    std::printf("oscillator alpha = %g, h = %g, %ld steps per run, median of %d\n", alpha, h, N, reps);
     add("oscillator", "geomint la", N, [&] { run_library<schemes::La>(N, h, alpha); });
     add("oscillator", "bare la", N, [&] {
       double q = -0.25, p = 0.75;
@@ -166,7 +155,6 @@ int main(int argc, char** argv) {
       const double hp = 0.1;
       const long Np = std::max(1000L, N / 10);
       const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
-      std::printf("\nFoucault pendulum (15), h = %g, alpha = %g, %ld steps per run\n", hp, sc.alpha, Np);
       add("pendulum", "geomint la-nh", Np, [&] {
         double acc = 0;
         integrate_foucault<schemes::LaNh>(fp, q0, v0, hp, Np, FoucaultStart::legendre,
@@ -207,7 +195,6 @@ int main(int argc, char** argv) {
     // Subnormals: alpha = 1 over t in [0, 1e5] decays below DBL_MIN at t ~ 1400 and stays subnormal.
     const double hs = 0.01;
     const long Ns = static_cast<long>(1e5 / hs);
-    std::printf("\nsubnormals: alpha = 1, h = %g, t in [0, 1e5] (%ld steps)\n", hs, Ns);
     add("subnormal", "contact, plain", Ns, [&] { run_library<schemes::Contact>(Ns, hs, 1.0); });
     add("subnormal", "contact, flush-to-zero", Ns, [&] {
       ScopedFlushToZero ftz;
@@ -219,24 +206,12 @@ int main(int argc, char** argv) {
       run_library<schemes::La>(Ns, hs, 1.0);
     });
 
-    // Ensembles: M contact oscillators, SoA, vectorized inner loop; one and two threads.
-    const std::size_t M = 8192;
-    const long Ne = std::max(1L, N / 1000);
-    std::printf("\nensemble: %zu contact oscillators x %ld steps (ns per trajectory-step)\n", M, Ne);
-    for (unsigned threads : {1u, 2u}) {
-      add("ensemble", "contact ensemble, " + std::to_string(threads) + " thread(s)", static_cast<double>(M) * Ne, [&] {
-        OscEnsemble e(M);
-        for (std::size_t i = 0; i < M; ++i) {
-          e.q[i] = -0.25 + 1e-6 * static_cast<double>(i);
-          e.p[i] = 0.75;
-        }
-        step_ensemble<schemes::Contact>(e, Ne, h, alpha, threads);
-        do_not_optimize(e.q[M / 2]);
-      });
-    }
+    std::printf("oscillator alpha = %g, h = %g, %ld steps per run; pendulum h = 0.1, alpha = 1e-4; subnormals alpha = 1, "
+                "h = %g, t in [0, 1e5] (%ld steps); median of %d\n", alpha, h, N, hs, Ns, reps);
+    table.run();
 
     std::map<std::string, double> ns;
-    for (const auto& r : rows) ns[r.name] = r.ns();
+    for (const auto& r : table.rows()) ns[r.name] = r.ns();
     struct Ratio {
       std::string what;
       double value, target;
@@ -249,8 +224,6 @@ int main(int argc, char** argv) {
         {"PartialPivLU / geomint la-nh", ns["la-nh via PartialPivLU 3x3"] / ns["geomint la-nh"], 4, false},
         {"contact plain / flush-to-zero (alpha=1, 1e5)", ns["contact, plain"] / ns["contact, flush-to-zero"], 0, false},
         {"la plain / flush-to-zero (alpha=1, 1e5)", ns["la, plain"] / ns["la, flush-to-zero"], 0, false},
-        {"ensemble 1 thread / 2 threads", ns["contact ensemble, 1 thread(s)"] / ns["contact ensemble, 2 thread(s)"], 0,
-         false},
         {"quoted NumPy loop 1.8 us / geomint contact", 1800.0 / ns["geomint contact"], 300, false},
         {"quoted scipy fsolve 30 us / geomint contact", 30000.0 / ns["geomint contact"], 2000, false},
     };
@@ -263,12 +236,8 @@ int main(int argc, char** argv) {
 
     const Params params{{"steps", std::to_string(N)}, {"reps", std::to_string(reps)}, {"h", format_number(h)},
                         {"alpha", format_number(alpha)}, {"adaptive tol", format_number(tol)},
-                        {"note", "timings; medians over reps after one warm-up run"}};
-    TsvWriter tsv(dir / "bench_steps.tsv", "bench_steps", params,
-                  {"group", "case", "ns_per_step_median", "ns_per_step_min", "ns_per_step_max", "reps"});
-    for (const auto& r : rows)
-      tsv.row(r.group, r.name, r.ns(), r.t.min / r.units * 1e9, r.t.max / r.units * 1e9, r.t.reps);
-    tsv.commit();
+                        {"note", "timings (Google Benchmark); medians over reps"}};
+    table.write_tsv(dir / "bench_steps.tsv", "bench_steps", params);
     TsvWriter rt(dir / "bench_ratios.tsv", "bench_steps", params, {"ratio", "value", "target"});
     for (const auto& r : ratios) rt.row(r.what, r.value, r.target == 0 ? std::string("-") : (r.less ? "<= " : ">= ") + format_number(r.target));
     rt.commit();

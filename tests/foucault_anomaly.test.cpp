@@ -34,7 +34,8 @@ FoucaultScene scene(double alpha, double T) {
 
 double wrap_pi(double a) { return a - foucault_pi * std::round(a / foucault_pi); }
 
-// Landings found by the default ensemble (64 runs, tau_k = h (k + 1/2)/64) and Figure 2's own runs (tau = 0).
+// Landings found by the 64-run ensemble (the default when this was written; tau_k = h (k + 1/2)/64) and Figure 2's own
+// runs (tau = 0).
 struct Landing {
   const char* scheme;
   double alpha, h, tau;

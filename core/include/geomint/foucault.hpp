@@ -274,6 +274,28 @@ LinearStep<T> to_rotation_system(LinearStep<T> ls, const FoucaultParams<T>& p, c
   ls.b(2) = 0;
   return ls;
 }
+
+// A paper step of either scheme through its component form: check r_j^2, solve, repack.
+template <class Scheme, class T>
+void paper_step(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h, Vec2<T>& qn, T& lambda1, long j) {
+  const T r2 = q.squaredNorm();
+  require_solvable(r2, j);
+  T xn, yn, lm;
+  Scheme::step_xy(p, h, qm(0), qm(1), q(0), q(1), r2, xn, yn, lm);
+  qn = Vec2<T>(xn, yn);
+  lambda1 = lm * p.m;
+}
+
+// The constraint row of a rotation step, shared by both schemes: q_{j+1} = qh - mu n(phi_j) with
+// n(phi_{j+1}).q_{j+1} = 0, built in the basis of the new line (n(phi_{j+1}) = (-e1, e0)).
+template <class T>
+inline void finish_rotation_step(T qhx, T qhy, T ln0, T ln1, T e0, T e1, T& xn, T& yn, T& mu) {
+  const T n0 = -e1, n1 = e0;
+  mu = (n0 * qhx + n1 * qhy) / (n0 * ln0 + n1 * ln1);
+  const T r = (e0 * qhx + e1 * qhy) - mu * (e0 * ln0 + e1 * ln1);
+  xn = r * e0;
+  yn = r * e1;
+}
 }  // namespace detail
 
 // Lagrange–d'Alembert nonholonomic integrator, eq. (15): the forced constrained discrete Euler–Lagrange
@@ -338,17 +360,21 @@ struct LaNh {
   template <class T>
   static void step(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h, Vec2<T>& qn, T& lambda1,
                    long j = -1) {
-    const T r2 = q.squaredNorm();
-    detail::require_solvable(r2, j);
+    detail::paper_step<LaNh>(p, qm, q, h, qn, lambda1, j);
+  }
+
+  // The closed form in components, r2 = x^2 + y^2 given: what step() and the structure-of-arrays ensembles
+  // (foucault_ensemble.cpp) both call, so a run gives the same bits one at a time or many to a vector.
+  // lm = lambda_1 / m. No check: the caller tests r2 (require_solvable) and the result.
+  template <class T>
+  static void step_xy(const FoucaultParams<T>& p, T h, T xm, T ym, T x, T y, T r2, T& xn, T& yn, T& lm) {
     const T c = 1 / h + p.alpha;
     // 1/h and 1/c are loop-invariant: multiplying by them keeps the only division per step the
     // data-dependent one by h r_j^2 (<= 1 ulp per product; the long double tests bound the result)
-    const T ih = 1 / h, ic = 1 / c;
-    const Vec2<T> d = q - qm;
-    const T lm = c * p.s * h + cross<T>(qm, q) / (h * r2);  // lambda_1 / m
-    const Vec2<T> rhs = d * ih - h * p.w2 * q + lm * Vec2<T>(q(1), -q(0));
-    qn = q + rhs * ic;
-    lambda1 = lm * p.m;
+    const T ih = 1 / h, ic = 1 / c, hw2 = h * p.w2;
+    lm = c * p.s * h + (xm * y - ym * x) / (h * r2);  // cross(q_{j-1}, q_j)
+    xn = x + ((x - xm) * ih - hw2 * x + lm * y) * ic;
+    yn = y + ((y - ym) * ih - hw2 * y + lm * -x) * ic;
   }
 
   // ----- rotation discretization of (13) (see FoucaultConstraint): L = line of phi_j, Ln = line of phi_{j+1}.
@@ -381,10 +407,19 @@ struct LaNh {
   static void step_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h,
                             const FoucaultLine<T>& L, const FoucaultLine<T>& Ln, Vec2<T>& qn, T& lambda1) {
     const T c = 1 / h + p.alpha;
-    const Vec2<T> qh = q + ((q - qm) / h - h * p.w2 * q) / c;
-    const T mu = Ln.n.dot(qh) / Ln.n.dot(L.n);
-    qn = (Ln.e.dot(qh) - mu * Ln.e.dot(L.n)) * Ln.e;
+    T xn, yn, mu;
+    step_rotation_xy(p, h, qm(0), qm(1), q(0), q(1), L.n(0), L.n(1), Ln.e(0), Ln.e(1), xn, yn, mu);
+    qn = Vec2<T>(xn, yn);
     lambda1 = mu * p.m * c;
+  }
+
+  // In components (shared with the ensembles): (ln0, ln1) = n(phi_j), (e0, e1) = e(phi_{j+1}).
+  template <class T>
+  static void step_rotation_xy(const FoucaultParams<T>& p, T h, T xm, T ym, T x, T y, T ln0, T ln1, T e0, T e1,
+                               T& xn, T& yn, T& mu) {
+    const T c = 1 / h + p.alpha, hw2 = h * p.w2;
+    const T qhx = x + ((x - xm) / h - hw2 * x) / c, qhy = y + ((y - ym) / h - hw2 * y) / c;
+    detail::finish_rotation_step(qhx, qhy, ln0, ln1, e0, e1, xn, yn, mu);
   }
 
   // The continuous-equivalent (13) multiplier of a rotation step: lambda_force / r_j, r_j = e(phi_j).q_j.
@@ -451,13 +486,18 @@ struct ContactNh {
   template <class T>
   static void step(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h, Vec2<T>& qn, T& lambda1,
                    long j = -1) {
-    const T r2 = q.squaredNorm();
-    detail::require_solvable(r2, j);
+    detail::paper_step<ContactNh>(p, qm, q, h, qn, lambda1, j);
+  }
+
+  // In components, r2 = x^2 + y^2 given (shared with the ensembles; see LaNh::step_xy). lm = lambda_1 / m.
+  template <class T>
+  static void step_xy(const FoucaultParams<T>& p, T h, T xm, T ym, T x, T y, T r2, T& xn, T& yn, T& lm) {
     const T damp = 1 - h * p.alpha;
-    const Vec2<T> d = q - qm;
-    const T lm = (p.s * h * r2 + damp * cross<T>(qm, q)) / (h * h * r2);  // lambda_1 / m
-    qn = q + damp * d - h * h * p.w2 * (1 - h * p.alpha / 2) * q + h * h * lm * Vec2<T>(q(1), -q(0));
-    lambda1 = lm * p.m;
+    const T k = h * h * p.w2 * (1 - h * p.alpha / 2), hh = h * h;
+    lm = (p.s * h * r2 + damp * (xm * y - ym * x)) / (hh * r2);  // cross(q_{j-1}, q_j)
+    const T g = hh * lm;
+    xn = x + damp * (x - xm) - k * x + g * y;
+    yn = y + damp * (y - ym) - k * y + g * -x;
   }
 
   // ----- rotation discretization of (13) (see FoucaultConstraint): rows 1-2 of (18) with
@@ -488,10 +528,19 @@ struct ContactNh {
   template <class T>
   static void step_rotation(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h,
                             const FoucaultLine<T>& L, const FoucaultLine<T>& Ln, Vec2<T>& qn, T& lambda1) {
-    const Vec2<T> qh = q + (1 - h * p.alpha) * (q - qm) - h * h * p.w2 * (1 - h * p.alpha / 2) * q;
-    const T mu = Ln.n.dot(qh) / Ln.n.dot(L.n);
-    qn = (Ln.e.dot(qh) - mu * Ln.e.dot(L.n)) * Ln.e;
+    T xn, yn, mu;
+    step_rotation_xy(p, h, qm(0), qm(1), q(0), q(1), L.n(0), L.n(1), Ln.e(0), Ln.e(1), xn, yn, mu);
+    qn = Vec2<T>(xn, yn);
     lambda1 = mu * p.m / (h * h);
+  }
+
+  // In components (shared with the ensembles): (ln0, ln1) = n(phi_j), (e0, e1) = e(phi_{j+1}).
+  template <class T>
+  static void step_rotation_xy(const FoucaultParams<T>& p, T h, T xm, T ym, T x, T y, T ln0, T ln1, T e0, T e1,
+                               T& xn, T& yn, T& mu) {
+    const T damp = 1 - h * p.alpha, k = h * h * p.w2 * (1 - h * p.alpha / 2);
+    const T qhx = x + damp * (x - xm) - k * x, qhy = y + damp * (y - ym) - k * y;
+    detail::finish_rotation_step(qhx, qhy, ln0, ln1, e0, e1, xn, yn, mu);
   }
 
   template <class T>
@@ -529,6 +578,33 @@ struct FoucaultStep {
   T phin;  // phi_{j+1} = phi_0 - s t_{j+1} (rotation); NaN for paper
 };
 
+// The failure of step j -> j+1 when q_{j+1} is not finite.
+inline NumericalFailure state_failure(long j) { return NumericalFailure(j + 1, "state", "non-finite q_{j+1}"); }
+
+// The rotations R(-s h b), b < K, that carry the line of the rotation discretization from its anchor (evaluated
+// with cos and sin every K steps) to the K - 1 steps after it. Shared by integrate_foucault_steps and the
+// ensembles, so both turn a line by the same arithmetic.
+template <class T>
+struct RotationTable {
+  static constexpr long K = 64;
+  std::array<T, K> cb, sb;  // R(-s h b) = [[cb, -sb], [sb, cb]]
+  RotationTable(T s, T h) {
+    using std::cos;
+    using std::sin;
+    for (long b = 0; b < K; ++b) {
+      const T a = s * (T(b) * h);
+      cb[static_cast<std::size_t>(b)] = cos(a);
+      sb[static_cast<std::size_t>(b)] = -sin(a);
+    }
+  }
+  // e(phi_anchor - s h b) from e(phi_anchor) = (a0, a1).
+  void line(long b, T a0, T a1, T& e0, T& e1) const {
+    const T c = cb[static_cast<std::size_t>(b)], sn = sb[static_cast<std::size_t>(b)];
+    e0 = c * a0 - sn * a1;
+    e1 = sn * a0 + c * a1;
+  }
+};
+
 // Steps j = j0 .. j1-1 of `Scheme` from (q_{j0-1}, q_{j0}): the observer is called with the step j -> j+1, so
 // it sees every q_j, j = j0..j1. t_j = j h (never accumulated). For the rotation discretization phi_0 is the
 // plane angle at t = 0 (phi_j = phi_0 - s t_j); it is unused for paper. No allocation happens here.
@@ -544,7 +620,7 @@ void integrate_foucault_steps(const FoucaultParams<T>& p, Vec2<T> qm, Vec2<T> q,
     const T nan = std::numeric_limits<T>::quiet_NaN();
     for (long j = j0; j < j1; ++j) {
       Scheme::step(p, qm, q, h, qn, lambda1, j);
-      if (!isfinite(qn(0)) || !isfinite(qn(1))) throw NumericalFailure(j + 1, "state", "non-finite q_{j+1}");
+      if (!isfinite(qn(0)) || !isfinite(qn(1))) throw state_failure(j);
       observe(FoucaultStep<T>{j, T(j) * h, qm, q, qn, lambda1, Scheme::lambda_force(lambda1, h),
                               FoucaultConstraint::paper, nan});
       qm = q;
@@ -556,30 +632,23 @@ void integrate_foucault_steps(const FoucaultParams<T>& p, Vec2<T> qm, Vec2<T> q,
   // anchor) and in between by one rotation from a table of the rotations by -s h b, b < K: the same
   // direction to a few ulps (tests/foucault_anomaly.test.cpp checks the angle of every q_k against
   // phi0 - s t_k), without a sincos per step (which would double the cost of a step).
-  using std::cos;
-  using std::sin;
-  constexpr long K = 64;
-  std::array<T, K> cb, sb;  // R(-s h b) = [[cb, -sb], [sb, cb]]
-  for (long b = 0; b < K; ++b) {
-    const T a = p.s * (T(b) * h);
-    cb[static_cast<std::size_t>(b)] = cos(a);
-    sb[static_cast<std::size_t>(b)] = -sin(a);
-  }
+  const RotationTable<T> rot(p.s, h);
   FoucaultLine<T> anchor = foucault_line<T>(phi0 - p.s * (T(j0) * h)), L = anchor, Ln;
   long b = 0;
   for (long j = j0; j < j1; ++j) {
     const T phin = phi0 - p.s * (T(j + 1) * h);
-    if (++b == K) {
+    if (++b == RotationTable<T>::K) {
       b = 0;
       anchor = foucault_line<T>(phin);
       Ln = anchor;
     } else {
-      const T c = cb[static_cast<std::size_t>(b)], sn = sb[static_cast<std::size_t>(b)];
-      Ln.e = Vec2<T>(c * anchor.e(0) - sn * anchor.e(1), sn * anchor.e(0) + c * anchor.e(1));
-      Ln.n = Vec2<T>(-Ln.e(1), Ln.e(0));
+      T e0, e1;
+      rot.line(b, anchor.e(0), anchor.e(1), e0, e1);
+      Ln.e = Vec2<T>(e0, e1);
+      Ln.n = Vec2<T>(-e1, e0);
     }
     Scheme::step_rotation(p, qm, q, h, L, Ln, qn, lambda1);
-    if (!isfinite(qn(0)) || !isfinite(qn(1))) throw NumericalFailure(j + 1, "state", "non-finite q_{j+1}");
+    if (!isfinite(qn(0)) || !isfinite(qn(1))) throw state_failure(j);
     observe(FoucaultStep<T>{j, T(j) * h, qm, q, qn, lambda1, Scheme::lambda_force_rotation(lambda1, h, q, L),
                             FoucaultConstraint::rotation, phin});
     qm = q;

@@ -41,6 +41,8 @@
 #include <vector>
 
 #include "geomint/foucault.hpp"
+#include "geomint/simd.hpp"
+#include "geomint/stats.hpp"
 
 namespace geomint {
 
@@ -83,6 +85,28 @@ struct AnomalySummary {
 // squared norm and two products; everything else happens at turning points (twice per 16.4 s period).
 // jumps: every half-swing with |measured| >= record_threshold (rad). phi0: the exact plane angle at t = 0
 // (exact angle phi0 - s t). j_end: the step count of the run (the last step j_end - 1 gives E_end).
+// The landing candidate of the current half-swing: q_j (with q_{j-1}, q_{j+1}) with the largest |q_{j-1}| / |q_j|.
+template <class T>
+struct AnomalyLanding {
+  T r2m = 0, r2 = 1;  // |q_{j-1}|^2, |q_j|^2 (0 and 1: no candidate yet, any step beats it)
+  long j = -1;        // -1: none since the last turning point
+  Vec2<T> qm = Vec2<T>::Zero(), q = Vec2<T>::Zero(), qn = Vec2<T>::Zero();
+};
+
+// The per-step tests of AnomalyDetector as functions of squared radii, shared with the vectorized ensembles
+// (foucault_ensemble.cpp) so both decide alike. Cross-multiplied: no division per step. Every comparison is
+// evaluated (& and |, not && and ||): with -ftrapping-math GCC may not speculate a comparison that the source
+// evaluates only conditionally, and that alone keeps a loop from being vectorized.
+template <class T>
+inline bool landing_is_better(T r2m, T r2, T best_r2m, T best_r2) {
+  return r2m * best_r2 > best_r2m * r2;
+}
+// q_j is a turning point: a local maximum of |q_j| (j = 0 counts when |q_0| >= |q_1|).
+template <class T>
+inline bool is_turning_point(bool first, T r2m, T r2, T rn2) {
+  return (r2 >= rn2) & (first | (r2 > r2m));
+}
+
 template <class T>
 class AnomalyDetector {
  public:
@@ -101,60 +125,45 @@ class AnomalyDetector {
       r2_ = st.q.squaredNorm();
       started_ = true;
     }
-    // Landing candidate: the q_j with the largest |q_{j-1}| / |q_j| since the last turning point (cross-
-    // multiplied: no division per step). The virtual q_{-1} of the start is not a landing.
-    if (st.j > 0 && r2m_ * best_r2_ > best_r2m_ * r2_) {
-      best_r2m_ = r2m_;
-      best_r2_ = r2_;
-      best_j_ = st.j;
-      best_qm_ = st.qm;
-      best_q_ = st.q;
-      best_qn_ = st.qn;
-      have_best_ = true;
+    // Landing candidate. The virtual q_{-1} of the start is not a landing.
+    if (st.j > 0 && landing_is_better(r2m_, r2_, best_.r2m, best_.r2)) best_ = {r2m_, r2_, st.j, st.qm, st.q, st.qn};
+    if (is_turning_point(st.j == 0, r2m_, r2_, rn2)) {
+      turn(st.j, st.t, st.q, st.qn, best_);
+      best_ = AnomalyLanding<T>{};
     }
-    const bool turning = st.j == 0 ? r2_ >= rn2 : (r2_ > r2m_ && r2_ >= rn2);
-    if (turning) on_turn(st);
-    if (st.j == j_end_ - 1) {
-      summary_.E_end = static_cast<double>(chord_energy(p_, st.q, st.qn, h_));
-      summary_.t_end = static_cast<double>(st.t) + hd_ / 2;
-      summary_.energy_ratio_end = summary_.E_end / (summary_.E0 * std::exp(-alpha_ * summary_.t_end));
-    }
+    if (st.j == j_end_ - 1) end(st.t, st.q, st.qn);
     r2m_ = r2_;
     r2_ = rn2;
   }
 
-  AnomalySummary summary() const { return summary_; }
-
-  std::vector<FoucaultJump> jumps;
-
- private:
-  void on_turn(const FoucaultStep<T>& st) {
+  // A turning point at q_j (t = t_j), with the landing of the half-swing that ends there.
+  void turn(long j, T t_j, const Vec2<T>& q, const Vec2<T>& qn, const AnomalyLanding<T>& best) {
     using std::sqrt;
     constexpr double pi = foucault_pi;
-    const double t = static_cast<double>(st.t);
-    const double x = static_cast<double>(st.q(0)), y = static_cast<double>(st.q(1));
+    const double t = static_cast<double>(t_j);
+    const double x = static_cast<double>(q(0)), y = static_cast<double>(q(1));
     double a = std::atan2(y, x);
-    const double E = static_cast<double>(chord_energy(p_, st.q, st.qn, h_));
+    const double E = static_cast<double>(chord_energy(p_, q, qn, h_));
     if (have_turn_) {
       a += pi * std::round((prev_angle_ - a) / pi);  // the plane is a line: the representative nearest the last
       FoucaultJump J;
       J.j_prev_turn = prev_j_;
-      J.j_turn = st.j;
+      J.j_turn = j;
       J.t_turn = t;
       J.measured = (a - prev_angle_) + s_ * (t - prev_t_);
       J.energy_loss = 1 - E / prev_E_ * std::exp(alpha_ * (t - prev_t_));
-      if (have_best_) {
-        J.j_land = best_j_;
-        J.t_land = static_cast<double>(T(best_j_) * h_);
-        J.r_land = static_cast<double>(sqrt(best_r2_));
-        J.r_prev = static_cast<double>(sqrt(best_r2m_));
-        J.rho = static_cast<double>(sqrt(best_r2_ / (best_qn_ - best_q_).squaredNorm()));
-        J.side = best_qm_.dot(best_q_) >= 0 ? 1 : -1;
+      if (best.j >= 0) {
+        J.j_land = best.j;
+        J.t_land = static_cast<double>(T(best.j) * h_);
+        J.r_land = static_cast<double>(sqrt(best.r2));
+        J.r_prev = static_cast<double>(sqrt(best.r2m));
+        J.rho = static_cast<double>(sqrt(best.r2 / (best.qn - best.q).squaredNorm()));
+        J.side = best.qm.dot(best.q) >= 0 ? 1 : -1;
         J.simple = std::atan(s_ * hd_ / J.rho);
         J.predicted = constraint_ == FoucaultConstraint::rotation
                           ? 0.0
-                          : predicted_jump(s_, hd_, static_cast<double>(best_qm_(0)), static_cast<double>(best_qm_(1)),
-                                           static_cast<double>(best_q_(0)), static_cast<double>(best_q_(1)));
+                          : predicted_jump(s_, hd_, static_cast<double>(best.qm(0)), static_cast<double>(best.qm(1)),
+                                           static_cast<double>(best.q(0)), static_cast<double>(best.q(1)));
         if (J.rho < summary_.min_rho) {
           summary_.min_rho = J.rho;
           summary_.t_min_rho = J.t_land;
@@ -170,23 +179,32 @@ class AnomalyDetector {
     prev_angle_ = a;
     prev_t_ = t;
     prev_E_ = E;
-    prev_j_ = st.j;
+    prev_j_ = j;
     have_turn_ = true;
-    best_r2m_ = 0;
-    best_r2_ = 1;
-    have_best_ = false;
   }
 
+  // The last step (q_{N-1} -> q_N, t = t_{N-1}): the final energy.
+  void end(T t_last, const Vec2<T>& q, const Vec2<T>& qn) {
+    summary_.E_end = static_cast<double>(chord_energy(p_, q, qn, h_));
+    summary_.t_end = static_cast<double>(t_last) + hd_ / 2;
+    summary_.energy_ratio_end = summary_.E_end / (summary_.E0 * std::exp(-alpha_ * summary_.t_end));
+  }
+
+  AnomalySummary summary() const { return summary_; }
+
+  std::vector<FoucaultJump> jumps;
+
+ private:
   FoucaultParams<T> p_;
   T h_;
   double hd_, s_, alpha_, phi0_, threshold_;
   long j_end_;
   FoucaultConstraint constraint_;
   AnomalySummary summary_;
-  bool started_ = false, have_turn_ = false, have_best_ = false;
-  T r2m_ = 0, r2_ = 0, best_r2m_ = 0, best_r2_ = 1;
-  long best_j_ = -1, prev_j_ = -1;
-  Vec2<T> best_qm_, best_q_, best_qn_;
+  bool started_ = false, have_turn_ = false;
+  T r2m_ = 0, r2_ = 0;
+  AnomalyLanding<T> best_;
+  long prev_j_ = -1;
   double prev_angle_ = 0, prev_t_ = 0, prev_E_ = 0;
 };
 
@@ -210,6 +228,14 @@ struct AnomalyRun {
   AnomalySummary summary;
   std::vector<FoucaultJump> jumps;
 };
+
+// Whether two runs carry the same bits in every field (doubles compared as bit patterns, so NaN == NaN):
+// what "the vectorized, threaded and distributed ensembles give the same results" means.
+bool same_bits(const AnomalyRun& a, const AnomalyRun& b);
+
+// A run as bytes and back (for Sweep::map: gathering the runs of every MPI rank on rank 0), bit-exact.
+std::string pack(const AnomalyRun& r);
+AnomalyRun unpack_anomaly_run(const std::string& row);
 
 enum class Precision { double_, long_double, quad };  // quad: Boost.Multiprecision cpp_bin_float_quad
 const char* to_string(Precision p);
@@ -235,11 +261,16 @@ std::vector<AnomalyCase> anomaly_cases(const std::vector<double>& hs, const std:
                                        const std::vector<std::string>& schemes,
                                        const std::vector<FoucaultConstraint>& constraints, long runs);
 
-// Runs every case on `threads` threads (std::thread, each pulling the next case). progress(done, total)
-// is called from the calling thread about every half second and once at the end.
+// Runs every case on `threads` threads (std::thread, each pulling the next work item). progress(done, total)
+// is called from the calling thread about every 0.1 s and once at the end.
+// simd: Simd::scalar runs each case through run_anomaly (one trajectory at a time); sse2/avx2/avx512 step up
+// to 128 consecutive cases of one cell (scheme, constraint, alpha, h) together in structure-of-arrays form,
+// vectorized for that instruction set. Every choice, and every thread count, gives the same bits
+// (tests/simd_ensemble.test.cpp).
 std::vector<AnomalyRun> run_anomaly_ensemble(const FoucaultScene& base, const std::vector<AnomalyCase>& cases,
                                              double record_threshold, unsigned threads,
-                                             const std::function<void(std::size_t, std::size_t)>& progress = {});
+                                             const std::function<void(std::size_t, std::size_t)>& progress = {},
+                                             Simd simd = best_simd());
 
 // Per (scheme, constraint, alpha, h): the statistics the issue asks for.
 inline constexpr std::array<double, 3> anomaly_jump_thresholds_deg{1, 5, 20};
@@ -249,12 +280,15 @@ struct AnomalyCell {
   double alpha = 0, h = 0;
   long runs = 0, failed = 0;
   std::array<double, 3> p_jump{};       // share of ok runs with max |jump| > 1, 5, 20 deg
+  std::array<Interval, 3> p_jump_ci{};  // its 95 % Clopper–Pearson interval
   std::array<double, 3> p_predicted{};  // predicted_jump_probability for the same thresholds
   // mean number of half-swings per run with |jump| > 1, 5, 20 deg (NaN when the runs did not record jumps
   // that small), and its prediction N_pass 2 s h / sin K, which needs no independence between passes
   std::array<double, 3> mean_jumps{};
+  std::array<double, 3> mean_jumps_se{};  // standard error of mean_jumps
   std::array<double, 3> mean_predicted{};
   double p_energy_loss = 0;             // share of ok runs with energy_ratio_end < 0.99
+  Interval p_energy_loss_ci;            // its 95 % Clopper–Pearson interval
   double p_energy_predicted = 0;        // predicted: a jump with sin^2 > 0.01 (kappa > 5.74 deg)
   double median_abs_plane_error_deg = std::numeric_limits<double>::quiet_NaN();
   double p90_abs_plane_error_deg = std::numeric_limits<double>::quiet_NaN();

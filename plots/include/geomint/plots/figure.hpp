@@ -30,6 +30,7 @@ struct Series {
   std::string title;
   std::string style = "lines";  // gnuplot "with" clause
   std::vector<double> z;        // non-empty: a heat map, x/y on a regular grid (row-major), style "image"
+  std::vector<double> ylow, yhigh;  // non-empty: error bars (style "yerrorbars" or "points" with "errorbars")
 };
 
 struct Panel {
