@@ -75,6 +75,8 @@ bench: build
 	@$(BUILD)/experiments/bench_steps --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_ensembles --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_generic --out $(OUT)
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

@@ -35,6 +35,9 @@ TEST_CASE("generic programs refuse bad input with one line, exit 2, and write no
       {"work_precision", "--system pendulum --schemes nosuch", "unknown scheme 'nosuch'"},
       {"work_precision", "--system pendulum --h-max 0.3", "not an integer"},
       {"work_precision", "--q0 1 2", "sweeps alpha only"},
+      {"bench_generic", "--steps 10", "steps must be in"},
+      {"bench_generic", "--reps 1", "reps must be in"},
+      {"bench_generic", "--benchmark_nosuch=1", "unrecognised benchmark flag"},
   };
   for (const auto& b : bad) check_rejected(b.program, b.args, b.expect);
 }

@@ -30,6 +30,7 @@
 // Discrete constraints (Cortés–Martínez, as in (15), (18)): Phi_d = Phi o Psi with the quadrature's
 // discretizing map Psi(q_j, q_{j+1}) = (t*, q*, (q_{j+1} - q_j)/h); for a system that gives its constraint as
 // the derivative of a (possibly time-dependent) holonomic one g, Phi_d = g(t_{j+1}, q_{j+1}) (as SHAKE does).
+#include <tuple>
 #include <type_traits>
 
 #include "geomint/generic/system.hpp"
@@ -454,12 +455,15 @@ struct Herglotz {
 };
 
 // The generic schemes: a principle over a quadrature. A new scheme is a new quadrature (a struct like the ones
-// above, with its `scheme` name) and one entry in AllSchemes (system_info.hpp); every system then has it.
+// above, with its `scheme` name) and one entry in AllSchemesTuple below; every system then has it.
 using LaLeft = LagrangeDAlembert<la_quadrature::Left>;
 using LaMidpoint = LagrangeDAlembert<la_quadrature::Midpoint>;
 using LaTrapezoid = LagrangeDAlembert<la_quadrature::Trapezoid>;
 using ContactLeft = Herglotz<contact_quadrature::Left>;
 using ContactTrapezoid = Herglotz<contact_quadrature::Trapezoid>;
+
+// Every generic scheme, for code that iterates over them (the registry, benchmarks).
+using AllSchemesTuple = std::tuple<LaLeft, ContactLeft, LaMidpoint, LaTrapezoid, ContactTrapezoid>;
 
 template <class Scheme>
 constexpr const char* scheme_name() {

@@ -55,7 +55,7 @@ double horizon_of(const Sys& sys) {
 // ---------------------------------------------------------------------------------------------------
 // The schemes a system gets, and their closed forms
 
-using AllSchemes = std::tuple<LaLeft, ContactLeft, LaMidpoint, LaTrapezoid, ContactTrapezoid>;
+using AllSchemes = AllSchemesTuple;
 
 template <class Sys, class G>
 constexpr bool applicable() {

@@ -1,0 +1,173 @@
+// Benchmark (make bench): the generic Newton step built from a system's Lagrangian against the hand-derived
+// closed form of the same scheme, ns per step, and Newton iterations per step; and the generic step alone on
+// the systems without a closed form. Timed with Google Benchmark (medians over interleaved repetitions); every
+// ratio is between medians of this run.
+//   bench_generic [--steps 200000] [--reps 9] [--out out] [--benchmark_filter=...]
+// Writes out/bench_generic.tsv (every case) and out/bench_generic_ratios.tsv (generic / closed form).
+#include <cmath>
+#include <cstdio>
+#include <tuple>
+
+#include "bench_table.hpp"
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/generic/stepper.hpp"
+#include "geomint/integrate.hpp"
+#include "geomint/io.hpp"
+#include "geomint/systems/foucault.hpp"
+#include "geomint/systems/knife_edge.hpp"
+#include "geomint/systems/nonholonomic_particle.hpp"
+#include "geomint/systems/oscillator.hpp"
+#include "geomint/systems/pendulum.hpp"
+#include "geomint/timing.hpp"
+
+using namespace geomint;
+
+namespace {
+
+struct Pair {
+  std::string system, scheme, closed, closed_case, generic_case;
+  double newton = std::nan("");  // Newton iterations per step of the generic step
+};
+
+// N generic steps from the system's initial data; returns the Newton iterations per step.
+template <class Sys, class G>
+double run_generic(const Sys& sys, double h, long N) {
+  generic::Stepper<Sys, G> st(sys, h);
+  st.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
+  for (long j = 0; j < N; ++j) st.step();
+  do_not_optimize(st.state().q(0));
+  return double(st.total_updates()) / double(N);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return guarded_main("bench_generic", [&] {
+    auto args = bench::Table::split_args(argc, argv);
+    long N = 200000;
+    int reps = 9;
+    Cli cli("bench_generic", "ns per step of the generic Newton step against the closed forms");
+    cli.options.add_options()("steps", po::value(&N)->default_value(N), "steps per timed call (oscillator)")(
+        "reps", po::value(&reps)->default_value(reps), "timed repetitions (median reported)");
+    if (!cli.parse(argc, args.data())) return 0;
+    require(N >= 1000 && N <= 100000000, "steps must be in [1000, 1e8]");
+    require(reps >= 3 && reps <= 1000, "reps must be in [3, 1000]");
+    const auto dir = prepare_output_dir(cli.out);
+    bench::Table table(reps, 0.05);
+    std::vector<Pair> pairs;
+
+    // The oscillator (h = 0.01, alpha = 0.1, as bench_steps): its five closed forms.
+    systems::Oscillator osc;
+    osc.alpha = 0.1;
+    const double ho = 0.01;
+    std::apply([&](auto... fp) {
+      (([&] {
+         using FP = decltype(fp);
+         using C = typename FP::closed;
+         using G = typename FP::generic;
+         const std::string scheme = generic::scheme_name<G>();
+         Pair p{"oscillator", scheme, C::name, "closed oscillator " + std::string(C::name), "generic oscillator " + scheme};
+         table.add("oscillator", p.closed_case, double(N), [=] {
+           OscState<double> s{osc.q0, osc.p0, 0};
+           integrate_const<C>(s, ho, N, osc.alpha, [](long, const OscState<double>&) {});
+           do_not_optimize(s.q);
+         });
+         table.add("oscillator", p.generic_case, double(N), [=] { run_generic<systems::Oscillator, G>(osc, ho, N); });
+         p.newton = run_generic<systems::Oscillator, G>(osc, ho, N);
+         pairs.push_back(p);
+       }()),
+       ...);
+    }, systems::Oscillator::fast_paths{});
+
+    // The Foucault pendulum, both constraints: (15), (18) and the remedy, 1000 s at h = 0.1.
+    const double hf = 0.1;
+    const long Nf = 10000;
+    auto foucault = [&](auto sys, FoucaultConstraint constraint) {
+      using Sys = decltype(sys);
+      std::apply([&](auto... fp) {
+        (([&] {
+           using FP = decltype(fp);
+           using C = typename FP::closed;
+           using G = typename FP::generic;
+           const std::string scheme = generic::scheme_name<G>();
+           Pair p{Sys::name, scheme, C::name, "closed " + std::string(Sys::name) + " " + C::name,
+                  "generic " + std::string(Sys::name) + " " + scheme};
+           const FoucaultParams<double> fp_(sys.scene);
+           const Vec2<double> q0(sys.scene.x0, sys.scene.y0), v0(sys.scene.vx0, sys.scene.vy0);
+           table.add(Sys::name, p.closed_case, double(Nf), [=] {
+             double last = 0;
+             integrate_foucault<C>(fp_, q0, v0, hf, Nf, FoucaultStart::legendre,
+                                   [&](const FoucaultStep<double>& st) { last = st.qn(0); }, constraint);
+             do_not_optimize(last);
+           });
+           table.add(Sys::name, p.generic_case, double(Nf), [=] { run_generic<Sys, G>(sys, hf, Nf); });
+           p.newton = run_generic<Sys, G>(sys, hf, Nf);
+           pairs.push_back(p);
+         }()),
+         ...);
+      }, typename Sys::fast_paths{});
+    };
+    foucault(systems::Foucault{}, FoucaultConstraint::paper);
+    foucault(systems::FoucaultRotation{}, FoucaultConstraint::rotation);
+
+    // The nonholonomic particle (h = 0.05).
+    {
+      const systems::NonholonomicParticle sys;
+      const double hp = 0.05;
+      const long Np = 20000;
+      Pair p{"particle", "la", schemes::ParticleLaNh::name, "closed particle particle-la-nh", "generic particle la"};
+      table.add("particle", p.closed_case, double(Np), [=] {
+        Vec<double, 3> q = sys.initial_position<double>(), v = generic::consistent_velocity(sys, 0.0, q, sys.initial_velocity<double>());
+        for (long j = 0; j < Np; ++j) schemes::ParticleLaNh::step(sys, q, v, hp);
+        do_not_optimize(q(0));
+      });
+      table.add("particle", p.generic_case, double(Np), [=] { run_generic<systems::NonholonomicParticle, generic::LaLeft>(sys, hp, Np); });
+      p.newton = run_generic<systems::NonholonomicParticle, generic::LaLeft>(sys, hp, Np);
+      pairs.push_back(p);
+    }
+
+    // Systems without a closed form: the generic step alone (h = 0.1), with its Newton iterations.
+    std::vector<Pair> alone;
+    auto generic_only = [&](auto sys, long n_steps) {
+      using Sys = decltype(sys);
+      std::apply([&](auto... g) {
+        (([&] {
+           using G = decltype(g);
+           const std::string scheme = generic::scheme_name<G>();
+           Pair p{Sys::name, scheme, "", "", "generic " + std::string(Sys::name) + " " + scheme};
+           table.add(Sys::name, p.generic_case, double(n_steps), [=] { run_generic<Sys, G>(sys, 0.1, n_steps); });
+           p.newton = run_generic<Sys, G>(sys, 0.1, n_steps);
+           alone.push_back(p);
+         }()),
+         ...);
+      }, generic::AllSchemesTuple{});
+    };
+    generic_only(systems::Pendulum{}, 20000);
+    generic_only(systems::KnifeEdge{}, 20000);
+
+    std::printf("Google Benchmark, medians of %d interleaved repetitions (ns per step):\n", reps);
+    table.run();
+    const Params params{{"steps_oscillator", std::to_string(N)}, {"reps", std::to_string(reps)},
+                        {"oscillator", "alpha 0.1, h 0.01"}, {"foucault", "h 0.1, 10000 steps"},
+                        {"particle", "h 0.05, 20000 steps"}, {"pendulum, knife-edge", "h 0.1, 20000 steps"}};
+    table.write_tsv(dir / "bench_generic.tsv", "bench_generic", params);
+    TsvWriter ratios(dir / "bench_generic_ratios.tsv", "bench_generic", params,
+                     {"system", "scheme", "closed_form", "ns_closed", "ns_generic", "ratio", "newton_per_step"});
+    std::printf("\n%-18s %-18s %-16s %10s %10s %8s %8s\n", "system", "scheme", "closed form", "closed", "generic", "ratio",
+                "Newton");
+    for (const auto& p : pairs) {
+      const double c = table.ns(p.closed_case), g = table.ns(p.generic_case);
+      ratios.row(p.system, p.scheme, p.closed, c, g, g / c, p.newton);
+      std::printf("%-18s %-18s %-16s %10.2f %10.2f %8.2f %8.3f\n", p.system.c_str(), p.scheme.c_str(), p.closed.c_str(),
+                  c, g, g / c, p.newton);
+    }
+    for (const auto& p : alone) {
+      const double g = table.ns(p.generic_case);
+      ratios.row(p.system, p.scheme, "-", std::nan(""), g, std::nan(""), p.newton);
+      std::printf("%-18s %-18s %-16s %10s %10.2f %8s %8.3f\n", p.system.c_str(), p.scheme.c_str(), "-", "-", g, "-", p.newton);
+    }
+    ratios.commit();
+    return 0;
+  });
+}
