@@ -20,6 +20,7 @@ convergence --system knife-edge
 integrate --system knife-edge --scheme la
 integrate --system knife-edge --scheme contact-trapezoid
 work_precision --system pendulum
+stability_oscillator --system coupled-oscillators --n 60
 endef
 export FIGURE_COMMANDS
 

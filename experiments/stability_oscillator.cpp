@@ -5,6 +5,9 @@
 //   stability_oscillator [--n 180] [--out out]   (also under mpirun -n N: the ranks share the grid cells)
 // Writes out/stability_oscillator.tsv (one row per scheme and grid cell), out/stability_boundaries.tsv and
 // out/stability_oscillator_{regions,decay,frequency}.{png,pdf}.
+// Any other linear system of the registry (e.g. --system coupled-oscillators) gets the same maps over (h, alpha)
+// for every scheme built from it: the one-step matrix of the generic step, classified by its eigenvalues against
+// the continuous generator's (out/<system>_stability.tsv and out/<system>_stability_{regions,decay,frequency}).
 #include <cmath>
 #include <cstdio>
 
@@ -14,9 +17,13 @@
 #include "geomint/modified/stability.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/sweep.hpp"
+#include "geomint/system_cli.hpp"
 
 using namespace geomint;
 using namespace geomint::modified;
+
+int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<std::string> names, int n, double h_min,
+                      double h_max, double a_min, double a_max);
 
 int main(int argc, char** argv) {
   return guarded_main("stability_oscillator", [&] {
@@ -24,6 +31,8 @@ int main(int argc, char** argv) {
     double h_min = 1e-2, h_max = 10, a_min = 1e-3, a_max = 10;
     std::vector<std::string> names{"la", "la-printed", "contact", "la-midpoint", "contact-sym", "leapfrog", "conformal-strang"};
     Cli cli("stability_oscillator", "stability and fidelity maps of the oscillator schemes over (h, alpha)");
+    SystemOptions sysopt(cli, argc, argv, "oscillator", false);
+    bool names_given = false;
     cli.options.add_options()("n", po::value(&n)->default_value(n), "grid points per axis (log-spaced)")(
         "h-min", po::value(&h_min)->default_value(h_min), "smallest h")("h-max", po::value(&h_max)->default_value(h_max),
                                                                           "largest h")(
@@ -32,6 +41,10 @@ int main(int argc, char** argv) {
         "schemes", po::value(&names)->multitoken()->default_value(names, "la la-printed contact la-midpoint contact-sym leapfrog conformal-strang"),
         "schemes");
     if (!cli.parse(argc, argv)) return 0;
+    for (int i = 1; i < argc; ++i) names_given = names_given || std::string(argv[i]).rfind("--schemes", 0) == 0;
+    if (sysopt.system().name != "oscillator")
+      return generic_stability(cli, sysopt, names_given ? names : std::vector<std::string>{}, n, h_min, h_max, a_min, a_max);
+    require(sysopt.values().empty(), "the oscillator maps take no system parameters (alpha is an axis of the map)");
     require(n >= 4 && n <= 1000, "n must be in [4, 1000]");
     require_positive(h_min, "h-min");
     require_positive(a_min, "alpha-min");
@@ -150,4 +163,124 @@ int main(int argc, char** argv) {
     }
     return 0;
   });
+}
+
+// Any linear system: the generic one-step matrices over (h, alpha), a map per scheme.
+int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<std::string> names, int n, double h_min,
+                      double h_max, double a_min, double a_max) {
+  const SystemInfo& sys = sysopt.system();
+  require(sys.linear && sys.constraints == 0, "stability maps need a linear system without constraints; '" + sys.name +
+                                                  "' is not (linear: oscillator, forced-oscillator, coupled-oscillators)");
+  bool has_alpha = false;
+  for (const auto& p : sys.params) has_alpha = has_alpha || p.name == "alpha";
+  require(has_alpha, "system '" + sys.name + "' has no parameter alpha to map");
+  require(n >= 4 && n <= 1000, "n must be in [4, 1000]");
+  require_positive(h_min, "h-min");
+  require_positive(a_min, "alpha-min");
+  require(h_max > h_min && std::isfinite(h_max), "h-max must be finite and exceed h-min");
+  require(a_max > a_min && std::isfinite(a_max), "alpha-max must be finite and exceed alpha-min");
+  names = sysopt.schemes(names);
+  const ParamValues base = sysopt.values();
+  for (const auto& [k, v] : base) require(k != "alpha", "alpha is an axis of the map: give --alpha-min/--alpha-max");
+  const auto dir = prepare_output_dir(cli.out);
+  const Sweep& sweep = Sweep::world();
+  const int N = 2 * sys.dof;
+  std::vector<double> hs, as;
+  for (int i = 0; i < n; ++i) {
+    hs.push_back(h_min * std::pow(h_max / h_min, i / (n - 1.0)));
+    as.push_back(a_min * std::pow(a_max / a_min, i / (n - 1.0)));
+  }
+  struct Cell {
+    double spectral_radius;
+    int region;
+    double decay_ratio, freq_low, freq_high;
+  };
+  const std::size_t per = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  auto with_alpha = [&](double a) {
+    ParamValues pv = base;
+    pv.emplace_back("alpha", a);
+    return pv;
+  };
+  const auto cells = sweep.map<Cell>(
+      names.size() * per, {},
+      [&](std::size_t first, std::size_t last) {
+        std::vector<Cell> out;
+        for (std::size_t k = first; k < last; ++k) {
+          const double a = as[k % per / static_cast<std::size_t>(n)], h = hs[k % static_cast<std::size_t>(n)];
+          const ParamValues pv = with_alpha(a);
+          Cell c{std::nan(""), static_cast<int>(Region::unstable), std::nan(""), std::nan(""), std::nan("")};
+          try {
+            const auto r = classify_linear_map(sys.one_step_matrix(pv, names[k / per], h), sys.continuous_matrix(pv), N, h);
+            c = {r.spectral_radius, static_cast<int>(r.region), r.decay_ratio, r.freq_low, r.freq_high};
+          } catch (const NumericalFailure&) {
+            // a step that cannot be solved (a singular Newton matrix) is a missing value, classified unstable
+          }
+          out.push_back(c);
+        }
+        return out;
+      },
+      [](const Cell& c) { return std::move(RowWriter().put(c)).str(); },
+      [](const std::string& row) {
+        Cell c;
+        RowReader(row).get(c);
+        return c;
+      });
+  if (!sweep.root()) return 0;
+  Params params = sysopt.header();
+  params.insert(params.end(), {{"n", std::to_string(n)}, {"h", format_number(h_min) + ".." + format_number(h_max) + " log"},
+                               {"alpha", format_number(a_min) + ".." + format_number(a_max) + " log"},
+                               {"classification", "eigenvalues of the one-step matrix on (q, p) against exp(h C)"}});
+  const std::string stem = sys.name + "_stability";
+  TsvWriter tsv(dir / (stem + ".tsv"), "stability_oscillator", params,
+                {"scheme", "h", "alpha", "spectral_radius", "region", "decay_ratio", "freq_low", "freq_high"});
+  std::printf("%s: %-18s %10s %10s %10s %10s   (share of the grid)\n", sys.name.c_str(), "scheme", "faithful", "wrong-char",
+              "sign-flip", "unstable");
+  for (std::size_t si = 0; si < names.size(); ++si) {
+    int count[4] = {0, 0, 0, 0};
+    for (std::size_t k = si * per; k < (si + 1) * per; ++k) {
+      const Cell& c = cells[k];
+      ++count[c.region];
+      tsv.row(names[si], hs[k % static_cast<std::size_t>(n)], as[k % per / static_cast<std::size_t>(n)], c.spectral_radius,
+              c.region, c.decay_ratio, c.freq_low, c.freq_high);
+    }
+    const double tot = static_cast<double>(n) * n;
+    std::printf("%s: %-18s %10.3f %10.3f %10.3f %10.3f\n", sys.name.c_str(), names[si].c_str(), count[0] / tot,
+                count[1] / tot, count[2] / tot, count[3] / tot);
+  }
+  tsv.commit();
+  const auto t = plots::read_tsv(dir / (stem + ".tsv"));
+  struct Map {
+    const char *stem, *column, *title, *palette;
+  };
+  const Map maps[] = {
+      {"regions", "region", "regions: 0 faithful, 1 wrong oscillation character, 2 sign flip, 3 unstable",
+       "set cbrange [-0.5:3.5]\nset palette maxcolors 4 defined (0 '#d9f0d3', 1 '#fdb863', 2 '#b2abd2', 3 '#d7191c')\n"
+       "set cbtics ('faithful' 0, 'wrong char.' 1, 'sign flip' 2, 'unstable' 3)\n"},
+      {"decay", "decay_ratio", "discrete / exact rate of phase-space contraction",
+       "set cbrange [0:2]\nset palette defined (0 '#2166ac', 1 '#f7f7f7', 2 '#b2182b')\n"},
+      {"frequency", "freq_high", "discrete / exact frequency of the fastest mode",
+       "set cbrange [0.5:1.5]\nset palette defined (0 '#2166ac', 1 '#f7f7f7', 2 '#b2182b')\n"},
+  };
+  for (const auto& mp : maps) {
+    plots::Figure fig;
+    fig.title = sys.name + " over (h, alpha): " + mp.title;
+    fig.cols = static_cast<int>(std::min<std::size_t>(names.size(), 4));
+    fig.rows = static_cast<int>((names.size() + 3) / 4);
+    fig.width_in = 4.25 * fig.cols;
+    fig.height_in = 4.2 * fig.rows;
+    for (const auto& s : names) {
+      plots::Panel p;
+      p.setup = std::string("unset key\nset xlabel 'log_{10} h'\nset ylabel 'log_{10} alpha'\nset title '") + s + "'\nset xrange [" +
+                format_number(std::log10(h_min)) + ":" + format_number(std::log10(h_max)) + "]\nset yrange [" +
+                format_number(std::log10(a_min)) + ":" + format_number(std::log10(a_max)) + "]\n" + mp.palette;
+      auto keep = [&](size_t i) { return t.text(i, "scheme") == s; };
+      auto lx = t.numbers("h", keep), ly = t.numbers("alpha", keep);
+      for (auto& v : lx) v = std::log10(v);
+      for (auto& v : ly) v = std::log10(v);
+      p.series.push_back(plots::Series{lx, ly, "", "image", t.numbers(mp.column, keep)});
+      fig.panels.push_back(std::move(p));
+    }
+    fig.draw(dir / (stem + "_" + mp.stem));
+  }
+  return 0;
 }

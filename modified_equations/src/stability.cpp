@@ -1,6 +1,10 @@
 #include "geomint/modified/stability.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <complex>
+
+#include <Eigen/Eigenvalues>
 
 #include "geomint/error.hpp"
 #include "geomint/oscillator_registry.hpp"
@@ -39,6 +43,53 @@ AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha) 
   long double M[2][2];
   find_oscillator_scheme(scheme).one_step(h, alpha, M);
   return all_orders_from_trace_det(M[0][0] + M[1][1], M[0][0] * M[1][1] - M[0][1] * M[1][0], h);
+}
+
+LinearMapClass classify_linear_map(const std::vector<double>& M, const std::vector<double>& C, int N, double h) {
+  require(N > 0 && M.size() == static_cast<std::size_t>(N * N) && C.size() == M.size(), "classify_linear_map: sizes");
+  const Eigen::MatrixXd Mm = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(M.data(), N, N);
+  const Eigen::MatrixXd Cm = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(C.data(), N, N);
+  const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(Mm, false).eigenvalues();
+  const Eigen::VectorXcd lam = Eigen::EigenSolver<Eigen::MatrixXd>(Cm, false).eigenvalues();
+  // a root is real when its imaginary part is below round-off of its size
+  auto is_real = [](std::complex<double> z) { return std::abs(z.imag()) <= 1e-12 * (1 + std::abs(z)); };
+  LinearMapClass out{};
+  int pairs_m = 0, pairs_c = 0;
+  bool negative = false;
+  out.spectral_radius = 0;
+  for (int i = 0; i < N; ++i) {
+    out.spectral_radius = std::max(out.spectral_radius, std::abs(mu(i)));
+    if (is_real(mu(i))) {
+      if (mu(i).real() < 0) negative = true;
+    } else if (mu(i).imag() > 0) {
+      ++pairs_m;
+    }
+    if (!is_real(lam(i)) && lam(i).imag() > 0) ++pairs_c;
+  }
+  if (out.spectral_radius > 1 + 1e-12)
+    out.region = Region::unstable;
+  else if (negative)
+    out.region = Region::sign_flip;
+  else if (pairs_m != pairs_c)
+    out.region = Region::wrong_character;
+  else
+    out.region = Region::faithful;
+  const double det = Mm.determinant(), tr = Cm.trace();
+  out.decay_ratio = det > 0 && tr != 0 ? std::log(det) / (h * tr) : std::nan("");
+  // oscillating modes, sorted by frequency: the discrete ones by arg(mu) / h, the continuous by Im(lambda)
+  std::vector<double> wd, wc;
+  for (int i = 0; i < N; ++i) {
+    if (!is_real(mu(i)) && mu(i).imag() > 0) wd.push_back(std::arg(mu(i)) / h);
+    if (!is_real(lam(i)) && lam(i).imag() > 0) wc.push_back(lam(i).imag());
+  }
+  std::sort(wd.begin(), wd.end());
+  std::sort(wc.begin(), wc.end());
+  out.freq_low = out.freq_high = std::nan("");
+  if (!wd.empty() && wd.size() == wc.size()) {
+    out.freq_low = wd.front() / wc.front();
+    out.freq_high = wd.back() / wc.back();
+  }
+  return out;
 }
 
 bool analytic_trace_det(const std::string& scheme, double h, double a, double& tr, double& det) {

@@ -93,6 +93,11 @@ struct SystemInfo {
   double (*seconds_per_run)(const ParamValues&, const std::string& scheme, double h, Path, int reps) = nullptr;
   std::function<void(double t, const double* x, double* dx)> (*ode)(const ParamValues&) = nullptr;
   std::vector<double> (*ode_initial_state)(const ParamValues&) = nullptr;
+  // Linear unconstrained systems (stability maps): the linear part of the one-step map of `scheme` on (q, p)
+  // (2n x 2n, row-major; a forcing term is removed by differencing), and of the continuous flow's generator on
+  // (q, q'). InputError for other systems.
+  std::vector<double> (*one_step_matrix)(const ParamValues&, const std::string& scheme, double h) = nullptr;
+  std::vector<double> (*continuous_matrix)(const ParamValues&) = nullptr;
 
   const SchemeInfo& scheme(const std::string& name) const;  // InputError naming the known ones
   std::vector<std::string> scheme_names() const;

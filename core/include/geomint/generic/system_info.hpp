@@ -310,6 +310,54 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
 }
 
 // ---------------------------------------------------------------------------------------------------
+// Linear maps (stability)
+
+template <class Sys>
+void require_linear_unconstrained(const char* what) {
+  if (!is_linear<Sys>() || Sys::constraints > 0)
+    throw InputError(std::string(what) + " needs a linear system without constraints; '" + Sys::name + "' is not");
+}
+
+// Columns are the images of the unit vectors of (q, p), minus the image of 0 (which carries any forcing).
+template <class Sys, class G>
+std::vector<double> one_step_matrix_of(const Sys& sys, double h) {
+  constexpr int n = Sys::dof, N = 2 * n;
+  auto image = [&](const Vec<double, N>& x) {
+    Stepper<Sys, G> st(sys, h);
+    st.restart(0, Vec<double, n>(x.template head<n>()), Vec<double, n>(x.template tail<n>()), 0.0);
+    st.step();
+    Vec<double, N> y;
+    y << st.state().q, st.state().p;
+    return y;
+  };
+  const Vec<double, N> zero = image(Vec<double, N>::Zero());
+  std::vector<double> M(static_cast<std::size_t>(N * N));
+  for (int c = 0; c < N; ++c) {
+    const Vec<double, N> col = image(Vec<double, N>::Unit(c)) - zero;
+    for (int r = 0; r < N; ++r) M[static_cast<std::size_t>(r * N + c)] = col(r);
+  }
+  return M;
+}
+
+template <class Sys>
+std::vector<double> continuous_matrix_of(const Sys& sys) {
+  constexpr int n = Sys::dof, N = 2 * n;
+  auto field = [&](const Vec<double, N>& x) {
+    const Vec<double, n> q = x.template head<n>(), v = x.template tail<n>();
+    Vec<double, N> y;
+    y << v, acceleration(sys, 0.0, q, v).a;
+    return y;
+  };
+  const Vec<double, N> zero = field(Vec<double, N>::Zero());
+  std::vector<double> C(static_cast<std::size_t>(N * N));
+  for (int c = 0; c < N; ++c) {
+    const Vec<double, N> col = field(Vec<double, N>::Unit(c)) - zero;
+    for (int r = 0; r < N; ++r) C[static_cast<std::size_t>(r * N + c)] = col(r);
+  }
+  return C;
+}
+
+// ---------------------------------------------------------------------------------------------------
 // The registry entry
 
 template <class Sys>
@@ -396,6 +444,23 @@ SystemInfo make_system_info() {
         dx[n + i] = a(i);
       }
     };
+  };
+  info.one_step_matrix = [](const ParamValues& pv, const std::string& scheme, double h) {
+    require_linear_unconstrained<Sys>("a one-step matrix");
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    require_positive(h, "h");
+    if constexpr (is_linear<Sys>() && Sys::constraints == 0) {
+      return visit_scheme<Sys>(scheme, [&](auto g) { return one_step_matrix_of<Sys, decltype(g)>(sys, h); });
+    } else {
+      return std::vector<double>{};
+    }
+  };
+  info.continuous_matrix = [](const ParamValues& pv) {
+    require_linear_unconstrained<Sys>("a continuous matrix");
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    return continuous_matrix_of(sys);
   };
   info.ode_initial_state = [](const ParamValues& pv) {
     const Sys sys = make_system<Sys>(pv);

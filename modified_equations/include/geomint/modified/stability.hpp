@@ -24,6 +24,20 @@ Region classify(const AllOrders& m, double alpha);
 // The one-step map of any registered oscillator scheme by name (throws InputError when unknown).
 AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha);
 
+// The same classification for the one-step map M (2n x 2n, row-major) of any linear system, against the
+// generator C of its continuous flow: unstable if a |mu| > 1; sign flip if a real mu < 0; wrong character if M
+// has a different number of complex-conjugate pairs (oscillating modes) than exp(h C); faithful otherwise. For
+// the oscillator (n = 1) this is `classify` above. Also the ratios a researcher reads off the maps:
+//   decay_ratio = ln|det M| / (h tr C), the discrete over the continuous rate of phase-space contraction
+//                 (for the oscillator a_h / alpha);
+//   freq_low, freq_high = arg(mu) / (h Im lambda) for the slowest and the fastest oscillating mode, where both the
+//                 discrete and the continuous mode oscillate (NaN otherwise).
+struct LinearMapClass {
+  Region region;
+  double spectral_radius, decay_ratio, freq_low, freq_high;
+};
+LinearMapClass classify_linear_map(const std::vector<double>& M, const std::vector<double>& C, int N, double h);
+
 // Analytic trace and determinant of the one-step map, from the schemes' closed forms:
 //   la:          tr = (2 + h a - h^2)/(1 + h a),   det = 1/(1 + h a)
 //   la-printed:  tr = (2 + a - h^2)/(1 + a),       det = 1/(1 + a)
