@@ -5,6 +5,7 @@
 // err_max = max_j |q_j - q_ref(t_j)| (max norm over the components), h halving from h-max to <= h-min.
 // Writes out/<system>_convergence.tsv (one row per scheme, parameter combination and h), ..._fits.tsv
 // (least-squares order per scheme and combination) and ....{png,pdf} (a panel per combination).
+// Under mpirun -n N the ranks share the (combination, scheme, h) runs; rank 0 writes the same files.
 #include <cmath>
 #include <cstdio>
 
@@ -13,6 +14,7 @@
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
+#include "geomint/sweep.hpp"
 #include "geomint/system_cli.hpp"
 
 using namespace geomint;
@@ -45,6 +47,48 @@ int main(int argc, char** argv) {
     const auto dir = prepare_output_dir(cli.out);
     const std::string stem = sys.name + "_convergence";
 
+    // Every (combination, scheme, h) run is an item of the sweep; a rank computes the reference of a combination
+    // when it first needs it.
+    const Sweep& sweep = Sweep::world();
+    const std::size_t S = schemes.size(), H = hs.size(), n_items = combos.size() * S * H;
+    std::vector<double> cost(n_items);
+    for (std::size_t k = 0; k < n_items; ++k) cost[k] = 1 / hs[k % H];
+    std::string ref_kind_text;
+    const auto errs_all = sweep.map<double>(
+        n_items, cost,
+        [&](std::size_t first, std::size_t last) {
+          std::vector<double> out;
+          std::size_t ref_of = SIZE_MAX;
+          Reference ref;
+          for (std::size_t k = first; k < last; ++k) {
+            const std::size_t c = k / (S * H);
+            const ParamValues& pv = combos[c];
+            if (ref_of != c) {
+              ref = sys.reference(pv, hs.back(), step_count(hs.back(), sys.horizon(pv)), ref_kind, tol);
+              ref_of = c;
+              ref_kind_text = ref.kind;
+            }
+            const std::string& name = schemes[k / H % S];
+            double e;
+            try {
+              e = sys.max_error(pv, name, hs[k % H], path, ref);
+            } catch (const NumericalFailure& f) {
+              std::fprintf(stderr, "convergence: %s (recorded as a missing value)\n", f.what());
+              e = std::nan("");
+            }
+            out.push_back(e);
+          }
+          return out;
+        },
+        [](double e) { return std::move(RowWriter().put(e)).str(); },
+        [](const std::string& row) {
+          double e;
+          RowReader(row).get(e);
+          return e;
+        });
+    if (!sweep.root()) return 0;
+    if (ref_kind_text.empty())  // every item ran on other ranks: name the reference all the same
+      ref_kind_text = sys.reference(combos.front(), hs.front(), 1, ref_kind, tol).kind;
     Params params = sysopt.header();
     params.insert(params.end(), {{"h", format_list(hs)}, {"path", to_string(path)}, {"reference", ref_name},
                                  {"tol", format_number(tol)},
@@ -56,29 +100,20 @@ int main(int argc, char** argv) {
     fit_cols.insert(fit_cols.end(), {"fitted_order", "points", "expected_order"});
     TsvWriter tsv(dir / (stem + ".tsv"), "convergence", params, cols);
     TsvWriter fits(dir / (stem + "_fits.tsv"), "convergence", params, fit_cols);
-    std::printf("%s, reference: ", sys.name.c_str());
-    for (const auto& pv : combos) {
+    std::printf("%s, reference: %s\n", sys.name.c_str(), ref_kind_text.c_str());
+    for (std::size_t c = 0; c < combos.size(); ++c) {
+      const ParamValues& pv = combos[c];
       const double T = sys.horizon(pv);
-      const Reference ref = sys.reference(pv, hs.back(), step_count(hs.back(), T), ref_kind, tol);
-      if (&pv == &combos.front()) std::printf("%s\n", ref.kind.c_str());
       std::vector<std::string> key;
       std::string label;
-      for (const auto& s : swept) {
-        key.push_back(format_number(param_value(pv, sys, s)));
-        label += (label.empty() ? "" : ", ") + s + " = " + key.back();
+      for (const auto& sw : swept) {
+        key.push_back(format_number(param_value(pv, sys, sw)));
+        label += (label.empty() ? "" : ", ") + sw + " = " + key.back();
       }
-      for (const auto& name : schemes) {
-        std::vector<double> errs;
-        for (double h : hs) {
-          double e;
-          try {
-            e = sys.max_error(pv, name, h, path, ref);
-          } catch (const NumericalFailure& f) {
-            std::fprintf(stderr, "convergence: %s (recorded as a missing value)\n", f.what());
-            e = std::nan("");
-          }
-          errs.push_back(e);
-        }
+      for (std::size_t si = 0; si < S; ++si) {
+        const std::string& name = schemes[si];
+        const std::vector<double> errs(errs_all.begin() + static_cast<long>((c * S + si) * H),
+                                       errs_all.begin() + static_cast<long>((c * S + si + 1) * H));
         const auto orders = observed_orders(hs, errs);
         std::vector<std::string> row{sys.name, name};
         row.insert(row.end(), key.begin(), key.end());

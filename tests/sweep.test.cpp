@@ -125,7 +125,9 @@ TEST_CASE("sweep programs under mpiexec -n 2 write byte-identical files", "[swee
     int files;
   };
   for (const Case& c : {Case{"anomaly_foucault", "--runs 70 --T 400 --h 0.1 0.05 --worst 1 --threads 1", 4},
-                        Case{"stability_oscillator", "--n 24", 2}}) {
+                        Case{"stability_oscillator", "--n 24", 2},
+                        Case{"stability_oscillator", "--system coupled-oscillators --n 8", 1},
+                        Case{"convergence", "--system pendulum --alpha 0.1 0.2 --h-min 0.02", 2}}) {
     const auto one = dir / (std::string(c.program) + "-1"), two = dir / (std::string(c.program) + "-2");
     REQUIRE(run_program(c.program, std::string(c.args) + " --out " + one.string()).exit_code == 0);
     const std::string cmd = env + GEOMINT_MPIEXEC + " -n 2 " + GEOMINT_BIN_DIR + "/" + c.program + " " + c.args +
