@@ -3,6 +3,8 @@
 // byte for byte with the single-process run.
 #include <catch2/catch.hpp>
 
+#include <cstring>
+
 #include <cstdlib>
 #include <fstream>
 #include <numeric>
@@ -128,7 +130,8 @@ TEST_CASE("sweep programs under mpiexec -n 2 write byte-identical files", "[swee
                         Case{"stability_oscillator", "--n 24", 2},
                         Case{"stability_oscillator", "--system coupled-oscillators --n 8", 1},
                         Case{"convergence", "--system pendulum --alpha 0.1 0.2 --h-min 0.02", 2}}) {
-    const auto one = dir / (std::string(c.program) + "-1"), two = dir / (std::string(c.program) + "-2");
+    const std::string tag = std::string(c.program) + "-" + std::to_string(std::strlen(c.args));  // one folder per case
+    const auto one = dir / (tag + "-1"), two = dir / (tag + "-2");
     REQUIRE(run_program(c.program, std::string(c.args) + " --out " + one.string()).exit_code == 0);
     const std::string cmd = env + GEOMINT_MPIEXEC + " -n 2 " + GEOMINT_BIN_DIR + "/" + c.program + " " + c.args +
                             " --out " + two.string() + " > " + (dir / "mpi.txt").string() + " 2>&1";
