@@ -43,16 +43,20 @@ class BiSeries {
 
   std::array<double, NE * NH> a{};
   int p = series_exact;
+  // A box [0, j1] x [k0, k1] outside which every coefficient is zero: the loops run over it only, so the cost
+  // follows the coefficients in use (few at low order) rather than the storage.
+  int j1 = -1, k0 = 0, k1 = -1;
 
   BiSeries() = default;
-  BiSeries(double x) { a[L] = x; }  // NOLINT: constants convert implicitly, as for a built-in scalar
+  BiSeries(double x) : j1(0), k0(0), k1(0) { a[L] = x; }  // NOLINT: constants convert implicitly
   template <class I, std::enable_if_t<std::is_arithmetic_v<I> && !std::is_same_v<I, double>, int> = 0>
   BiSeries(I x) : BiSeries(static_cast<double>(x)) {}  // NOLINT
 
   static BiSeries monomial(int j, int k, double c = 1) {
     BiSeries r;
-    r.a[L] = 0;
     r.at(j, k) = c;
+    r.j1 = j;
+    r.k0 = r.k1 = k;
     return r;
   }
   static BiSeries h() { return monomial(0, 1); }
@@ -65,6 +69,24 @@ class BiSeries {
   bool known(int j, int k) const { return j >= 0 && j <= E && k >= -L && k <= U && j + k < p; }
   double value() const { return at(0, 0); }
 
+  // After writing coefficients with at(): the tight box.
+  void fit() {
+    j1 = -1;
+    k0 = U + 1;
+    k1 = -L - 1;
+    for (int j = 0; j <= E; ++j)
+      for (int k = -L; k <= U; ++k)
+        if (at(j, k) != 0) {
+          j1 = j;
+          k0 = std::min(k0, k);
+          k1 = std::max(k1, k);
+        }
+    if (j1 < 0) {
+      k0 = 0;
+      k1 = -1;
+    }
+  }
+
   // Lowest h power, highest h power and lowest total degree among the nonzero coefficients.
   struct Span {
     int kmin = series_exact, kmax = -series_exact, dmin = series_exact;
@@ -72,8 +94,8 @@ class BiSeries {
   };
   Span span() const {
     Span s;
-    for (int j = 0; j <= E; ++j)
-      for (int k = -L; k <= U; ++k)
+    for (int j = 0; j <= j1; ++j)
+      for (int k = k0; k <= k1; ++k)
         if (at(j, k) != 0) {
           s.kmin = std::min(s.kmin, k);
           s.kmax = std::max(s.kmax, k);
@@ -85,42 +107,31 @@ class BiSeries {
   // Drops what the precision says is unknown (keeps the representation canonical).
   void clip() {
     if (p >= series_exact) return;
-    for (int j = 0; j <= E; ++j)
-      for (int k = std::max(-L, p - j); k <= U; ++k) at(j, k) = 0;
+    for (int j = 0; j <= j1; ++j)
+      for (int k = std::max(k0, p - j); k <= k1; ++k) at(j, k) = 0;
   }
 
-  BiSeries& operator+=(const BiSeries& b) {
-    for (std::size_t i = 0; i < a.size(); ++i) a[i] += b.a[i];
-    p = std::min(p, b.p);
-    clip();
-    return *this;
-  }
-  BiSeries& operator-=(const BiSeries& b) {
-    for (std::size_t i = 0; i < a.size(); ++i) a[i] -= b.a[i];
-    p = std::min(p, b.p);
-    clip();
-    return *this;
-  }
+  BiSeries& operator+=(const BiSeries& b) { return accumulate(b, 1.0); }
+  BiSeries& operator-=(const BiSeries& b) { return accumulate(b, -1.0); }
   BiSeries& operator*=(const BiSeries& b) { return *this = *this * b; }
   BiSeries& operator/=(const BiSeries& b) { return *this = *this / b; }
 
   friend BiSeries operator+(const BiSeries& x) { return x; }
   friend BiSeries operator-(BiSeries x) {
-    for (double& c : x.a) c = -c;
+    for (int j = 0; j <= x.j1; ++j)
+      for (int k = x.k0; k <= x.k1; ++k) x.at(j, k) = -x.at(j, k);
     return x;
   }
   friend BiSeries operator+(BiSeries x, const BiSeries& y) { return x += y; }
   friend BiSeries operator-(BiSeries x, const BiSeries& y) { return x -= y; }
-  friend BiSeries operator+(BiSeries x, double c) {
-    x.at(0, 0) += c;
-    return x;
-  }
-  friend BiSeries operator+(double c, BiSeries x) { return x + c; }
-  friend BiSeries operator-(BiSeries x, double c) { return x + (-c); }
-  friend BiSeries operator-(double c, const BiSeries& x) { return -x + c; }
+  friend BiSeries operator+(BiSeries x, double c) { return x += BiSeries(c); }
+  friend BiSeries operator+(double c, BiSeries x) { return x += BiSeries(c); }
+  friend BiSeries operator-(BiSeries x, double c) { return x -= BiSeries(c); }
+  friend BiSeries operator-(double c, const BiSeries& x) { return BiSeries(c) -= x; }
   friend BiSeries operator*(BiSeries x, double c) {
     if (c == 0) return BiSeries(0.0);
-    for (double& v : x.a) v *= c;
+    for (int j = 0; j <= x.j1; ++j)
+      for (int k = x.k0; k <= x.k1; ++k) x.at(j, k) *= c;
     return x;
   }
   friend BiSeries operator*(double c, const BiSeries& x) { return x * c; }
@@ -129,27 +140,26 @@ class BiSeries {
   friend BiSeries operator*(const BiSeries& x, const BiSeries& y) {
     const Span sx = x.span(), sy = y.span();
     BiSeries r;
-    r.a[L] = 0;
     if (sx.zero() && sy.zero()) {
-      r.p = std::min(x.p + y.p, series_exact);
+      r.p = (x.p >= series_exact || y.p >= series_exact) ? series_exact : std::min(x.p + y.p, series_exact);
       return r;
     }
-    // (x + O(p_x)) (y + O(p_y)): known below min(v_x + p_y, v_y + p_x)
+    // (x + O(p_x)) (y + O(p_y)): known below min(v_x + p_y, v_y + p_x); exact stays exact
     const int vx = sx.zero() ? x.p : sx.dmin, vy = sy.zero() ? y.p : sy.dmin;
-    r.p = std::min({vx + y.p, vy + x.p, series_exact});
-    if (sx.zero() || sy.zero()) {
-      r.clip();
-      return r;
-    }
+    auto shift = [](int v, int p) { return p >= series_exact ? series_exact : std::min(v + p, series_exact); };
+    r.p = std::min(shift(vx, y.p), shift(vy, x.p));
+    if (sx.zero() || sy.zero()) return r;
     if (sx.kmin + sy.kmin < -L) throw std::domain_error("BiSeries: a power of h below the Laurent window");
     if (sx.kmax + sy.kmax > U) r.p = std::min(r.p, U + 1);  // truncated in h
-    for (int j = 0; j <= E; ++j)
-      for (int k = std::max(-L, sx.kmin + sy.kmin); k <= std::min(U, sx.kmax + sy.kmax) && j + k < r.p; ++k) {
+    r.j1 = std::min(E, x.j1 + y.j1);
+    r.k0 = sx.kmin + sy.kmin;
+    r.k1 = std::min(U, sx.kmax + sy.kmax);
+    for (int j = 0; j <= r.j1; ++j)
+      for (int k = r.k0; k <= r.k1 && j + k < r.p; ++k) {
         double s = 0;
-        for (int j1 = 0; j1 <= j; ++j1) {
-          const int k1lo = std::max(sx.kmin, k - sy.kmax), k1hi = std::min(sx.kmax, k - sy.kmin);
-          for (int k1 = k1lo; k1 <= k1hi; ++k1) s += x.at(j1, k1) * y.at(j - j1, k - k1);
-        }
+        const int k1lo = std::max(sx.kmin, k - sy.kmax), k1hi = std::min(sx.kmax, k - sy.kmin);
+        for (int ja = std::max(0, j - y.j1); ja <= std::min(j, x.j1); ++ja)
+          for (int ka = k1lo; ka <= k1hi; ++ka) s += x.at(ja, ka) * y.at(j - ja, k - ka);
         r.at(j, k) = s;
       }
     return r;
@@ -161,39 +171,37 @@ class BiSeries {
     if (s.zero() || y.at(0, s.kmin) == 0)
       throw std::domain_error("BiSeries: division by a series without an invertible leading term");
     const int v = s.kmin;
+    if (-v < -L) throw std::domain_error("BiSeries: a power of h below the Laurent window");
     // yt = y h^{-v}: a power series with yt00 != 0, known below total degree y.p - v
     const int pt = y.p >= series_exact ? series_exact : y.p - v;
-    const bool monomial = s.kmax == v && [&] {
-      for (int j = 1; j <= E; ++j)
-        for (int k = -L; k <= U; ++k)
-          if (y.at(j, k) != 0) return false;
-      return true;
-    }();
-    BiSeries r;
-    r.a[L] = 0;
-    const int top = U + v;  // the highest power of ct = 1/yt that fits after the shift by h^{-v}
+    const bool monomial = s.kmax == v && y.j1 == 0;
+    const int top = U + v;  // the highest power of 1/yt that fits after the shift by h^{-v}
     const int pc = monomial ? pt : std::min(pt, top + 1);  // an infinite series is truncated at the window
-    if (-v < -L) throw std::domain_error("BiSeries: a power of h below the Laurent window");
-    auto yt = [&](int j, int k) { return (k + v > U) ? 0.0 : y.at(j, k + v); };
-    // ct[j][k] in lexicographic order: yt00 ct_jk = delta - sum_{(j',k') != (0,0)} yt_j'k' ct_{j-j',k-k'}
     const double y00 = y.at(0, v);
-    std::array<double, NE * NH> ct{};
-    auto C = [&](int j, int k) -> double& { return ct[static_cast<std::size_t>(j * NH + k)]; };
-    const int kspan = std::min(top, NH - 1);
-    for (int j = 0; j <= E; ++j)
-      for (int k = 0; k <= kspan && j + k < pc; ++k) {
-        double acc = (j == 0 && k == 0) ? 1.0 : 0.0;
-        for (int j1 = 0; j1 <= j; ++j1)
-          for (int k1 = 0; k1 <= k; ++k1) {
-            if (j1 == 0 && k1 == 0) continue;
-            const double yv = yt(j1, k1);
-            if (yv != 0) acc -= yv * C(j - j1, k - k1);
-          }
-        C(j, k) = acc / y00;
-      }
-    for (int j = 0; j <= E; ++j)
-      for (int k = 0; k <= kspan && j + k < pc; ++k)
-        if (k - v >= -L && k - v <= U) r.at(j, k - v) = C(j, k);
+    BiSeries r;
+    if (monomial) {
+      r = monomial_of(0, -v, 1 / y00);
+    } else {
+      // ct[j][k] in lexicographic order: yt00 ct_jk = delta - sum_{(j',k') != (0,0)} yt_j'k' ct_{j-j',k-k'}
+      std::array<double, NE * NH> ct{};
+      auto C = [&](int j, int k) -> double& { return ct[static_cast<std::size_t>(j * NH + k)]; };
+      const int kspan = std::min(top, NH - 1);
+      for (int j = 0; j <= E; ++j)
+        for (int k = 0; k <= kspan && j + k < pc; ++k) {
+          double acc = (j == 0 && k == 0) ? 1.0 : 0.0;
+          for (int ja = 0; ja <= std::min(j, y.j1); ++ja)
+            for (int ka = 0; ka <= std::min(k, s.kmax - v); ++ka) {
+              if (ja == 0 && ka == 0) continue;
+              const double yv = y.at(ja, ka + v);
+              if (yv != 0) acc -= yv * C(j - ja, k - ka);
+            }
+          C(j, k) = acc / y00;
+        }
+      for (int j = 0; j <= E; ++j)
+        for (int k = 0; k <= kspan && j + k < pc; ++k)
+          if (k - v >= -L && k - v <= U) r.at(j, k - v) = C(j, k);
+      r.fit();
+    }
     r.p = pc >= series_exact ? series_exact : pc - v;
     r.clip();
     return r;
@@ -207,17 +215,15 @@ class BiSeries {
     if (!s.zero() && s.kmin < 0) throw std::domain_error("BiSeries: function of a series with negative powers of h");
     BiSeries u = x;
     u.at(0, 0) = 0;  // nilpotent: every term has total degree >= 1
+    if (u.span().zero()) {  // a constant
+      BiSeries r(coef(0));
+      r.p = x.p;
+      return r;
+    }
     const int R = std::min(x.p >= series_exact ? E + U : x.p - 1, E + U);
     BiSeries r(coef(R));
     for (int k = R - 1; k >= 0; --k) r = r * u + coef(k);
     r.p = x.p >= series_exact ? std::min(r.p, U + 1) : std::min(r.p, x.p);
-    if (x.p >= series_exact && s.kmax <= 0 && [&] {
-          for (int j = 1; j <= E; ++j)
-            for (int k = -L; k <= U; ++k)
-              if (x.at(j, k) != 0) return false;
-          return true;
-        }())
-      r.p = series_exact;  // a constant stays exact
     r.clip();
     return r;
   }
@@ -264,6 +270,25 @@ class BiSeries {
   friend bool operator!=(const BiSeries& x, const BiSeries& y) { return !(x == y); }
 
  private:
+  static BiSeries monomial_of(int j, int k, double c) { return monomial(j, k, c); }
+  BiSeries& accumulate(const BiSeries& b, double sign) {
+    if (b.j1 >= 0) {
+      if (j1 < 0) {
+        j1 = b.j1;
+        k0 = b.k0;
+        k1 = b.k1;
+      } else {
+        j1 = std::max(j1, b.j1);
+        k0 = std::min(k0, b.k0);
+        k1 = std::max(k1, b.k1);
+      }
+      for (int j = 0; j <= b.j1; ++j)
+        for (int k = b.k0; k <= b.k1; ++k) at(j, k) += sign * b.at(j, k);
+    }
+    p = std::min(p, b.p);
+    clip();
+    return *this;
+  }
   static double factorial(int r) {
     double f = 1;
     for (int i = 2; i <= r; ++i) f *= i;
