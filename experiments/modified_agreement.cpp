@@ -75,16 +75,15 @@ int main(int argc, char** argv) {
     for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
     for (const auto& s : systems) {
       const auto& info = find_system(s);
-      require(info.constraints == 0, "system '" + s + "' is constrained: use nonholonomic_agreement");
+      require(info.constraints == 0, "system '" + s + "' is constrained: use nonholonomic_modified");
       for (const auto& x : schemes) info.scheme(x);
     }
-    const auto dir = prepare_output_dir(cli.out);
-    const double floor = 1e2 * tol;
     const ParamValues pv{{"alpha", alpha}};
     for (const auto& s : systems) find_system(s).validate(pv);
+    const auto dir = prepare_output_dir(cli.out);
+    const double floor = 1e2 * tol;
     std::vector<double> order_values(orders.begin(), orders.end());
-    const Params params{{"systems", [&] { std::string x; for (auto& s : systems) x += (x.empty() ? "" : " ") + s; return x; }()},
-                        {"schemes", [&] { std::string x; for (auto& s : schemes) x += (x.empty() ? "" : " ") + s; return x; }()},
+    const Params params{{"systems", join_names(systems)}, {"schemes", join_names(schemes)},
                         {"orders", format_list(order_values)}, {"alpha", format_number(alpha)}, {"h_max", format_list(h_max)},
                         {"halvings", std::to_string(halvings)},
                         {"T", format_number(T)}, {"tol", format_number(tol)}, {"fit_floor", format_number(floor)},
@@ -123,7 +122,7 @@ int main(int argc, char** argv) {
     for (int K : orders) std::printf("   K=%d      ", K);
     std::printf("\n");
     plots::Figure fig;
-    fig.title = "max_j |q_j - q~_K(t_j)| against h: each scheme against its order-K automatic modified equation";
+    fig.title = "max_j |q_j - q^{mod}_K(t_j)| against h: each scheme against its order-K automatic modified equation";
     fig.rows = static_cast<int>(systems.size());
     fig.cols = static_cast<int>(schemes.size());
     fig.width_in = 4.2 * fig.cols;

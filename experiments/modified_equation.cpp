@@ -90,11 +90,7 @@ int main(int argc, char** argv) {
 
     const auto dir = prepare_output_dir(cli.out);
     Params header = info.header(pv);
-    header.insert(header.end(), {{"schemes", [&] {
-                                    std::string x;
-                                    for (const auto& s : schemes) x += (x.empty() ? "" : " ") + s;
-                                    return x;
-                                  }()},
+    header.insert(header.end(), {{"schemes", join_names(schemes)},
                                  {"order", std::to_string(K)},
                                  {"t", format_number(t)},
                                  {"q", format_list(q)},

@@ -62,13 +62,12 @@ int main(int argc, char** argv) {
       require(info.constraints > 0, "system '" + s + "' has no constraint");
       for (const auto& x : schemes) info.scheme(x);
     }
-    const auto dir = prepare_output_dir(cli.out);
-    const double floor = 1e2 * tol;
     const ParamValues pv{{"alpha", alpha}};
     for (const auto& s : systems) find_system(s).validate(pv);
+    const auto dir = prepare_output_dir(cli.out);
+    const double floor = 1e2 * tol;
     std::vector<double> order_values(orders.begin(), orders.end());
-    const Params params{{"systems", [&] { std::string x; for (auto& s : systems) x += (x.empty() ? "" : " ") + s; return x; }()},
-                        {"schemes", [&] { std::string x; for (auto& s : schemes) x += (x.empty() ? "" : " ") + s; return x; }()},
+    const Params params{{"systems", join_names(systems)}, {"schemes", join_names(schemes)},
                         {"orders", format_list(order_values)}, {"alpha", format_number(alpha)}, {"h", format_list(hs)}, {"T", format_number(T)},
                         {"tol", format_number(tol)}, {"fit_floor", format_number(floor)}, {"radii", std::to_string(radii)},
                         {"discrete", "generic Newton step, long double, system defaults"},
@@ -103,7 +102,7 @@ int main(int argc, char** argv) {
     std::printf("\nfitted slopes against h\n%-18s %-8s %-2s %9s %9s %9s %9s %9s\n", "system", "scheme", "K", "err_q", "err_mu",
                 "phi_d", "phi_h(0)", "drift");
     plots::Figure fig;
-    fig.title = "constrained schemes against their automatic modified equations (max_j |q_j - q~_K(t_j)|)";
+    fig.title = "constrained schemes against their automatic modified equations: max_j |q_j - q^{mod}_K(t_j)|, and the discrete constraint along q^{mod}_K";
     fig.rows = static_cast<int>(systems.size());
     fig.cols = static_cast<int>(schemes.size()) + 1;
     fig.width_in = 4.2 * fig.cols;
@@ -111,8 +110,8 @@ int main(int argc, char** argv) {
     const char* colors[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e"};
     for (const auto& s : systems) {
       plots::Panel drift;
-      drift.setup = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'h'\nset ylabel 'max_j |Phi_d(q~(t_j), q~(t_{j+1}))|'\n"
-                    "set key bottom right font ',8'\nset title '" + s + ": discrete constraint along q~_K'\n";
+      drift.setup = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'h'\nset ylabel 'max_j |Phi_d(q^{mod}(t_j), q^{mod}(t_{j+1}))|'\n"
+                    "set key bottom right font ',8'\nset title '" + s + ": discrete constraint'\n";
       for (const auto& x : schemes) {
         plots::Panel p;
         p.setup = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'h'\nset ylabel 'max error in q'\n"

@@ -27,6 +27,8 @@ TEST_CASE("modified-equation programs reject bad input", "[programs][modified]")
   check_rejected("modified_agreement", "--tol 1", "tol must be in");
   check_rejected("nonholonomic_modified", "--systems pendulum", "has no constraint");
   check_rejected("nonholonomic_modified", "--radii 1", "radii must be in");
+  check_rejected("modified_agreement", "--alpha=-1", "alpha must be a non-negative");
+  check_rejected("nonholonomic_modified", "--alpha nan", "alpha must be a non-negative");
 }
 
 TEST_CASE("modified_equation writes F_k per scheme, k and component", "[programs][modified]") {

@@ -18,6 +18,12 @@ const std::vector<ModifiedSystem>& all_modified_systems() {
   return all;
 }
 
+std::string join_names(const std::vector<std::string>& names) {
+  std::string x;
+  for (const auto& n : names) x += (x.empty() ? "" : " ") + n;
+  return x;
+}
+
 const ModifiedSystem& find_modified_system(const std::string& name) {
   for (const auto& s : all_modified_systems())
     if (s.name == name) return s;

@@ -62,6 +62,8 @@ struct ModifiedSystem {
 };
 
 const std::vector<ModifiedSystem>& all_modified_systems();
+// "a b c": a list of names for an output header.
+std::string join_names(const std::vector<std::string>& names);
 const ModifiedSystem& find_modified_system(const std::string& name);  // InputError naming the known ones
 
 }  // namespace geomint::modified
