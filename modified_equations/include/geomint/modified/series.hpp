@@ -220,7 +220,10 @@ class BiSeries {
       r.p = x.p;
       return r;
     }
-    const int R = std::min(x.p >= series_exact ? E + U : x.p - 1, E + U);
+    // u^r has total degree >= r; with no positive power of h in u (a function of time t + eps alone, as in a
+    // forcing or a rheonomic constraint) it vanishes beyond eps^E: stop there
+    const int top = s.kmax <= 0 ? E : E + U;
+    const int R = std::min(x.p >= series_exact ? top : x.p - 1, top);
     BiSeries r(coef(R));
     for (int k = R - 1; k >= 0; --k) r = r * u + coef(k);
     r.p = x.p >= series_exact ? std::min(r.p, U + 1) : std::min(r.p, x.p);
