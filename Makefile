@@ -9,7 +9,7 @@ PACKAGES  := cmake make g++ git libeigen3-dev libgsl-dev libboost-dev libboost-p
 # Warnings are errors in CI.
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,)
 # Every figure and table with the paper's defaults, in this order.
-FIGURES   := fig1_oscillator convergence_oscillator backward_error work_precision stability_oscillator fig2_foucault convergence_foucault anomaly_foucault work_precision_foucault
+FIGURES   := fig1_oscillator convergence_oscillator backward_error work_precision stability_oscillator fig2_foucault convergence_foucault anomaly_foucault work_precision_foucault modified_equation modified_agreement nonholonomic_modified
 
 # Figures of the generic core's systems: one "program arguments..." per line.
 define FIGURE_COMMANDS

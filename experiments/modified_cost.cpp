@@ -1,0 +1,80 @@
+// Cost of one evaluation of the automatic modified equation (all of F_0..F_K, z', the multiplier and the
+// modified constraint at a point), against the order K and the dimension n: what one right-hand side
+// evaluation costs when the modified equation is integrated with Odeint. Timings only (not part of
+// `make figures`: they differ from run to run).
+//   modified_cost [--systems pendulum knife-edge foucault-rotation] [--schemes la contact la-trapezoid]
+//                 [--orders 0 1 2 3 4 5 6] [--seconds 0.2] [--reps 5] [--out out]
+// Each cell: the median over `reps` repeats of (time of a loop of evaluations lasting >= seconds) / count,
+// after a warm-up. Points: each system's initial position and (consistent) velocity.
+// Writes out/modified_cost_timings.tsv (system, n, m, scheme, K, us_per_evaluation).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/io.hpp"
+#include "geomint/modified/automatic_registry.hpp"
+#include "geomint/registry.hpp"
+
+using namespace geomint;
+using namespace geomint::modified;
+
+int main(int argc, char** argv) {
+  return guarded_main("modified_cost", [&] {
+    std::vector<std::string> systems{"pendulum", "knife-edge", "foucault-rotation"}, schemes{"la", "contact", "la-trapezoid"};
+    std::vector<int> orders{0, 1, 2, 3, 4, 5, 6};
+    double seconds = 0.2;
+    int reps = 5;
+    Cli cli("modified_cost", "microseconds per evaluation of the automatic modified equation, against K and n");
+    cli.options.add_options()("systems", po::value(&systems)->multitoken()->default_value(systems, "pendulum knife-edge foucault-rotation"), "systems")(
+        "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact la-trapezoid"), "schemes (skipped where not applicable)")(
+        "orders", po::value(&orders)->multitoken()->default_value(orders, "0 1 2 3 4 5 6"), "orders K")(
+        "seconds", po::value(&seconds)->default_value(seconds), "length of one timed loop")(
+        "reps", po::value(&reps)->default_value(reps), "timed loops per cell (median)");
+    if (!cli.parse(argc, argv)) return 0;
+    require(std::isfinite(seconds) && seconds > 0 && seconds <= 10, "seconds must be in (0, 10]");
+    require(reps >= 1 && reps <= 100, "reps must be in [1, 100]");
+    for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
+    for (const auto& s : systems) find_system(s);
+    const auto dir = prepare_output_dir(cli.out);
+    TsvWriter tsv(dir / "modified_cost_timings.tsv", "modified_cost",
+                  {{"seconds", format_number(seconds)}, {"reps", std::to_string(reps)}},
+                  {"system", "n", "m", "scheme", "K", "us_per_evaluation"});
+    std::printf("%-18s %-2s %-2s %-13s %-2s %12s\n", "system", "n", "m", "scheme", "K", "us/eval");
+    for (const auto& s : systems) {
+      const auto& info = find_system(s);
+      const auto& ms = find_modified_system(s);
+      const auto run = info.run({}, info.schemes.front().name, 0.1, Path::generic, 1);
+      std::vector<double> q(run.q.begin(), run.q.begin() + info.dof), v(run.v.begin(), run.v.begin() + info.dof);
+      for (const auto& x : schemes) {
+        if (std::find(ms.schemes.begin(), ms.schemes.end(), x) == ms.schemes.end()) continue;
+        for (int K : orders) {
+          double sink = 0;
+          auto loop = [&] {
+            long count = 0;
+            const auto t0 = std::chrono::steady_clock::now();
+            double el = 0;
+            do {
+              sink += ms.at({}, x, K, 0.0, q, v, 0.0, false).F.back();
+              ++count;
+              el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            } while (el < seconds);
+            return el / static_cast<double>(count) * 1e6;
+          };
+          loop();  // warm-up
+          std::vector<double> t;
+          for (int r = 0; r < reps; ++r) t.push_back(loop());
+          std::nth_element(t.begin(), t.begin() + reps / 2, t.end());
+          const double us = t[static_cast<std::size_t>(reps / 2)];
+          tsv.row(s, info.dof, info.constraints, x, K, us);
+          std::printf("%-18s %-2d %-2d %-13s %-2d %12.1f%s\n", s.c_str(), info.dof, info.constraints, x.c_str(), K, us,
+                      std::isfinite(sink) ? "" : " (non-finite)");
+        }
+      }
+    }
+    tsv.commit();
+    return 0;
+  });
+}

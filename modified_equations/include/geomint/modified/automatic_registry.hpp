@@ -1,0 +1,69 @@
+#pragma once
+// Automatic modified equations of every registered system and scheme, by name (no templates here: the heavy
+// instantiation lives in one generated translation unit per line of core/src/systems.def, so a new system
+// gets its modified equations with no other file touched).
+#include <string>
+#include <vector>
+
+#include "geomint/registry.hpp"
+
+namespace geomint::modified {
+
+// The largest order K the registry evaluates (the engine template takes any Kmax).
+constexpr int registry_max_order = 6;
+
+// The modified equation at one point (t, q, v, z), coefficient by coefficient in h.
+struct ModifiedPoint {
+  int n = 0, m = 0, K = 0;
+  bool contact = false, holonomic = false;
+  std::vector<double> F;        // (K+1) rows of n: q'' = sum_k h^k F_k
+  std::vector<double> Z;        // K+1: z' = sum_k h^k Z_k (contact; zeros otherwise)
+  std::vector<double> mu;       // (K+1) rows of m: the multiplier (impulse per unit time) sum_k h^k mu_k
+  std::vector<double> phi;      // (K+1+o) rows of m: the modified constraint Phi_h = Phi_d(q~(t), q~(t+h)) =
+                                // sum_k h^k phi_k (o = 1 for Phi o Psi, 2 for a holonomic constraint)
+  std::vector<double> phi_dot;  // holonomic: the time derivative of Phi_h along the flow (K+2 rows of m)
+  std::vector<double> lagrangian;  // K+1: the modified Lagrangian's value sum_k h^k L_k here (unconstrained LA
+                                  // schemes: the meshed Lagrangian, see ModifiedEquation::mesh_lagrangian;
+                                  // contact: the modified Herglotz Lagrangian, = Z; NaN when constrained)
+  double residual = 0;          // self-check: largest residual coefficient that should vanish (when asked)
+  double F_at(int k, int i) const { return F[static_cast<std::size_t>(k * n + i)]; }
+};
+
+// Step-by-step agreement of a discrete solution with the solution of its order-K modified equation.
+struct ModifiedAgreement {
+  long steps = 0;
+  double err_q = 0;        // max_j |q_j - q~(t_j)| (max over components)
+  double err_z = 0;        // max_j |z_j - z~(t_j)| (contact; NaN otherwise)
+  double v_shift = 0;      // |v~(0) - v(0)|: what the consistent (shooting) start moved the velocity by
+  double shoot_miss = 0;   // |q~(h) - q_1| after shooting
+  double phi_d = 0;        // max_j |Phi_d(q~(t_j), q~(t_{j+1}))| along the modified solution (constrained)
+  double phi_h0 = 0;       // |Phi_h^[K](x~(0))|: the modified constraint (truncated) at the start
+  double phi_h_drift = 0;  // max_j |Phi_h^[K](x~(t_j)) - Phi_h^[K](x~(0))|
+  double err_mu = 0;       // max_{j>=1} |lambda_j/h - mu~(t_j)| (constrained; the first impulse also absorbs the
+                           // start's continuous momentum along A^T)
+};
+
+struct ModifiedSystem {
+  std::string name;
+  int dof = 0, constraints = 0;
+  bool holonomic = false, has_herglotz = false;
+  std::vector<std::string> schemes;
+
+  // F_0..F_K of `scheme` at (t, q, v, z); `check` also re-evaluates the residual (ModifiedPoint::residual).
+  ModifiedPoint (*at)(const ParamValues&, const std::string& scheme, int K, double t, const std::vector<double>& q,
+                      const std::vector<double>& v, double z, bool check) = nullptr;
+  // The discrete solution (generic Newton step in long double, from the system's initial data, N = T/h steps)
+  // against the order-K modified solution (Boost.Odeint dopri5, dense output, tolerance tol) started
+  // consistently: q~(0) = q_0 and q~(h) = q_1 by shooting on v~(0) (z~(0) = z_0 = 0).
+  ModifiedAgreement (*agreement)(const ParamValues&, const std::string& scheme, int K, double h, double T,
+                                 double tol) = nullptr;
+  // The shooting start alone: v~(0) with q~(0) = q_0, q~(h) = q_1.
+  std::vector<double> (*shoot)(const ParamValues&, const std::string& scheme, int K, double h, double tol) = nullptr;
+};
+
+const std::vector<ModifiedSystem>& all_modified_systems();
+// "a b c": a list of names for an output header.
+std::string join_names(const std::vector<std::string>& names);
+const ModifiedSystem& find_modified_system(const std::string& name);  // InputError naming the known ones
+
+}  // namespace geomint::modified

@@ -1,0 +1,35 @@
+#include "geomint/modified/automatic_registry.hpp"
+
+#include "geomint/error.hpp"
+
+namespace geomint::modified {
+
+// One declaration per line of core/src/systems.def; each is defined in its generated translation unit.
+#define GEOMINT_SYSTEM(header, Type) ModifiedSystem make_modified_system_##Type();
+#include "systems.def"
+#undef GEOMINT_SYSTEM
+
+const std::vector<ModifiedSystem>& all_modified_systems() {
+  static const std::vector<ModifiedSystem> all = {
+#define GEOMINT_SYSTEM(header, Type) make_modified_system_##Type(),
+#include "systems.def"
+#undef GEOMINT_SYSTEM
+  };
+  return all;
+}
+
+std::string join_names(const std::vector<std::string>& names) {
+  std::string x;
+  for (const auto& n : names) x += (x.empty() ? "" : " ") + n;
+  return x;
+}
+
+const ModifiedSystem& find_modified_system(const std::string& name) {
+  for (const auto& s : all_modified_systems())
+    if (s.name == name) return s;
+  std::string known;
+  for (const auto& s : all_modified_systems()) known += (known.empty() ? "" : ", ") + s.name;
+  throw InputError("unknown system '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace geomint::modified
