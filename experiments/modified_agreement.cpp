@@ -2,7 +2,7 @@
 // order K, for every order: max_j |q_j - q~_K(t_j)| must fall like h^(K+1) (like h^(K+2) for even K of a
 // symmetric second-order scheme, whose odd F_k vanish). K = 0 is the original equation.
 //   modified_agreement [--systems oscillator pendulum forced-oscillator] [--schemes la contact la-trapezoid]
-//                      [--orders 0 1 2 3 4] [--alpha 0.5] [--h-max 0.1 0.1 0.2 0.2 0.2] [--halvings 2] [--T 2]
+//                      [--orders 0 1 2 3 4] [--alpha 0.5] [--h-max (0.1 for K <= 1, 0.2 for K >= 2)] [--halvings 2] [--T 2]
 //                      [--tol 1e-13] [--out out]
 // Discrete solutions: the generic Newton step in long double from each system's initial data (its default
 // parameters, with damping alpha). alpha = 0.5 by default: contact's odd-order terms are proportional to alpha
@@ -14,7 +14,8 @@
 // times from h-max, one value per order: 0.1 for K <= 1 (at h = 0.2 the next order still competes with the
 // leading error there: local slopes 0.6-0.8 between 0.2 and 0.1 at K = 0), 0.2 for K >= 2 (so that the
 // errors at slope 4-6 keep three points above the floor: ~1e-10 at h = 0.05, K = 4).
-// Bigger runs: --halvings 3 --T 4 (four points per fit; about 4x the time). A run that fails (Newton, Odeint) is a NaN row.
+// Bigger runs: --halvings 3 --T 4 (four points per fit; about 4x the time), under mpirun -n N to share the runs
+// across ranks (same files). A run that fails (Newton, Odeint) is a NaN row.
 // Writes out/modified_agreement.tsv (system, scheme, K, h, err_modified, err_z, v_shift, steps),
 // out/modified_agreement_fits.tsv (system, scheme, K, fitted_slope, expected_slope, points) and
 // out/modified_agreement.{png,pdf} (one panel per system and scheme, one line per K).
@@ -29,6 +30,7 @@
 #include "geomint/plots/figure.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/study.hpp"
+#include "geomint/sweep.hpp"
 
 using namespace geomint;
 using namespace geomint::modified;
@@ -48,17 +50,19 @@ int main(int argc, char** argv) {
     std::vector<std::string> systems{"oscillator", "pendulum", "forced-oscillator"}, schemes{"la", "contact", "la-trapezoid"};
     std::vector<int> orders{0, 1, 2, 3, 4};
     double T = 2, tol = 1e-13, alpha = 0.5;
-    std::vector<double> h_max{0.1, 0.1, 0.2, 0.2, 0.2};
+    std::vector<double> h_max;  // empty: 0.1 for K <= 1, 0.2 for K >= 2
     int halvings = 2;
     Cli cli("modified_agreement", "discrete solutions against their order-K automatic modified equations, K = 0..4");
     cli.options.add_options()("systems", po::value(&systems)->multitoken()->default_value(systems, "oscillator pendulum forced-oscillator"), "systems")(
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact la-trapezoid"), "schemes")(
         "orders", po::value(&orders)->multitoken()->default_value(orders, "0 1 2 3 4"), "orders K")(
         "alpha", po::value(&alpha)->default_value(alpha), "damping alpha of every system")(
-        "h-max", po::value(&h_max)->multitoken()->default_value(h_max, "0.1 0.1 0.2 0.2 0.2"), "largest step, per order (or one for all)")(
+        "h-max", po::value(&h_max)->multitoken(), "largest step, per order (or one for all); default 0.1 for K <= 1, 0.2 for K >= 2")(
         "halvings", po::value(&halvings)->default_value(halvings), "number of halvings of h")(
         "T", po::value(&T)->default_value(T), "horizon")("tol", po::value(&tol)->default_value(tol), "Odeint tolerance");
     if (!cli.parse(argc, argv)) return 0;
+    if (h_max.empty())
+      for (int K : orders) h_max.push_back(K <= 1 ? 0.1 : 0.2);
     require(h_max.size() == 1 || h_max.size() == orders.size(), "give one --h-max, or one per order");
     for (double h : h_max) require_positive(h, "h-max");
     require(halvings >= 2 && halvings <= 8, "halvings must be in [2, 8]");
@@ -89,28 +93,69 @@ int main(int argc, char** argv) {
                         {"T", format_number(T)}, {"tol", format_number(tol)}, {"fit_floor", format_number(floor)},
                         {"discrete", "generic Newton step, long double, system defaults but alpha"},
                         {"modified", "automatic (series through the residual), Odeint dopri5 dense, shooting start"}};
+    // Every (system, scheme, K, h) run is independent: under mpirun the runs are shared across ranks
+    // and gathered on rank 0 in this order, so the files are the single-process ones byte for byte.
+    struct Run {
+      std::string system, scheme;
+      int K;
+      double h;
+    };
+    std::vector<Run> runs;  // in output order: system, scheme, K, h
+    for (const auto& s : systems)
+      for (const auto& x : schemes)
+        for (std::size_t ki = 0; ki < orders.size(); ++ki)
+          for (double h : steps_of(ki)) runs.push_back({s, x, orders[ki], h});
+    // Sweep order: systems innermost, so every contiguous share holds each system in the same proportion (their
+    // costs differ by ~4x: the forced oscillator's Odeint runs take more steps), and the cost model need only
+    // know K: measured, a run costs about K + 2 (one series evaluation per order in each right-hand side) and
+    // hardly depends on h (the modified solution's Odeint steps follow its tolerance, not h).
+    std::vector<std::size_t> item;  // item[i]: the run computed as the i-th item of the sweep
+    const std::size_t X = schemes.size(), H = static_cast<std::size_t>(halvings) + 1;
+    for (std::size_t ki = 0; ki < orders.size(); ++ki)
+      for (std::size_t hi = 0; hi < H; ++hi)
+        for (std::size_t xi = 0; xi < X; ++xi)
+          for (std::size_t si = 0; si < systems.size(); ++si) item.push_back(((si * X + xi) * orders.size() + ki) * H + hi);
+    std::vector<double> cost;
+    for (std::size_t i : item) cost.push_back(runs[i].K + 2.0);
+    const Sweep& sweep = Sweep::world();
+    const auto by_item = sweep.map<ModifiedAgreement>(
+        runs.size(), cost,
+        [&](std::size_t first, std::size_t last) {
+          std::vector<ModifiedAgreement> out;
+          for (std::size_t i = first; i < last; ++i) {
+            const auto& r = runs[item[i]];
+            ModifiedAgreement a;
+            try {
+              a = find_modified_system(r.system).agreement(pv, r.scheme, r.K, r.h, T, tol);
+            } catch (const NumericalFailure& e) {
+              std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
+              a.err_q = a.err_z = a.v_shift = std::nan("");
+            } catch (const std::domain_error& e) {
+              std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
+              a.err_q = a.err_z = a.v_shift = std::nan("");
+            }
+            out.push_back(a);
+          }
+          return out;
+        },
+        [](const ModifiedAgreement& a) { return std::move(RowWriter().put(a.err_q).put(a.err_z).put(a.v_shift).put(a.steps)).str(); },
+        [](const std::string& row) {
+          ModifiedAgreement a;
+          RowReader(row).get(a.err_q).get(a.err_z).get(a.v_shift).get(a.steps);
+          return a;
+        });
+    if (!sweep.root()) return 0;
+    std::vector<ModifiedAgreement> results(runs.size());
+    for (std::size_t i = 0; i < item.size(); ++i) results[item[i]] = by_item[i];
     TsvWriter tsv(dir / "modified_agreement.tsv", "modified_agreement", params,
                   {"system", "scheme", "K", "h", "err_modified", "err_z", "v_shift", "steps"});
     std::printf("%-18s %-13s %-2s %-9s %12s %12s %12s\n", "system", "scheme", "K", "h", "err_q", "err_z", "v_shift");
-    for (const auto& s : systems) {
-      const auto& ms = find_modified_system(s);
-      for (const auto& x : schemes)
-        for (std::size_t ki = 0; ki < orders.size(); ++ki)
-          for (double h : steps_of(ki)) {
-            const int K = orders[ki];
-            ModifiedAgreement a;
-            try {
-              a = ms.agreement(pv, x, K, h, T, tol);
-            } catch (const NumericalFailure& e) {
-              std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", s.c_str(), x.c_str(), K, h, e.what());
-              a.err_q = a.err_z = a.v_shift = std::nan("");
-            } catch (const std::domain_error& e) {
-              std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", s.c_str(), x.c_str(), K, h, e.what());
-              a.err_q = a.err_z = a.v_shift = std::nan("");
-            }
-            tsv.row(s, x, K, h, a.err_q, a.err_z, a.v_shift, a.steps);
-            std::printf("%-18s %-13s %-2d %-9g %12.3e %12.3e %12.3e\n", s.c_str(), x.c_str(), K, h, a.err_q, a.err_z, a.v_shift);
-          }
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const auto& r = runs[i];
+      const auto& a = results[i];
+      tsv.row(r.system, r.scheme, r.K, r.h, a.err_q, a.err_z, a.v_shift, a.steps);
+      std::printf("%-18s %-13s %-2d %-9g %12.3e %12.3e %12.3e\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, a.err_q, a.err_z,
+                  a.v_shift);
     }
     tsv.commit();
 
