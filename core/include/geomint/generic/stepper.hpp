@@ -88,7 +88,7 @@ class Stepper {
   }
 
   void step() {
-    const VecK x = linear_lane_ ? solve_linear(predict()) : solve(predict());
+    const VecK x = linear_lane_ ? solve_linear(kMapLane ? x0_ : predict()) : solve(predict());
     // shift the history used by the predictor
     x2_ = x1_;
     x1_ = x0_;
@@ -121,6 +121,7 @@ class Stepper {
 
   void reset_history(bool have_velocity) {
     linear_lane_ = false;
+    map_ready_ = false;
     x0_ = current();
     history_ = have_velocity ? 0 : -1;
     need_jacobian_ = true;
@@ -217,13 +218,65 @@ class Stepper {
   // in q_{j+1}) is evaluated at the solution in plain arithmetic. The declaration is checked: the first steps and
   // every kVerify-th step go through the full Newton solve with its stopping rule, and a lane step whose residual
   // is not then at round-off throws.
+  //
+  // A linear system that also declares itself autonomous (no explicit t) has one step map for the whole run:
+  // (q_{j+1}, [z_{j+1}], lambda, p_{j+1}) = c + G (q_j, p_j, [z_j]), affine. The lane then builds c and G once,
+  // from the scheme's own rows — the solution from x = 0 (one Newton update, exact for an affine residual) at
+  // the zero input and at each unit input — and a step is one small matrix-vector product, verified like
+  // the lane (every kVerify-th step, the full residual at round-off). z_{j+1} is still evaluated as above.
   static constexpr long kVerify = 256;
+  static constexpr bool kMapLane = is_linear<Sys>() && is_autonomous<Sys>() && !Scheme::implicit_z;
+  static constexpr int U = 2 * n + (Scheme::contact ? 1 : 0);  // inputs of the step map
+  using VecU = Vec<T, U>;
+  using VecY = Vec<T, K + n>;
+
+  VecU map_input() const {
+    VecU u;  // element by element: Eigen's packet copies into a block of a 1-vector trip -Warray-bounds
+    for (int i = 0; i < n; ++i) {
+      u(i) = s_.q(i);
+      u(n + i) = s_.p(i);
+    }
+    if constexpr (Scheme::contact) u(2 * n) = s_.z;
+    return u;
+  }
+  [[gnu::noinline]] void build_map() {
+    const State keep = s_;
+    const Output keep_out = out_;
+    auto solve_at = [&](const VecU& u) {
+      for (int i = 0; i < n; ++i) {
+        s_.q(i) = u(i);
+        s_.p(i) = u(n + i);
+      }
+      if constexpr (Scheme::contact) s_.z = u(2 * n);
+      VecK R, scale;
+      evaluate(VecK::Zero(), R, scale);
+      const VecK x = -(Jinv_ * R);
+      const VecN p = out_.p_next + dP_ * x;
+      VecY y;
+      for (int i = 0; i < K; ++i) y(i) = x(i);
+      for (int i = 0; i < n; ++i) y(K + i) = p(i);
+      return y;
+    };
+    map_c_ = solve_at(VecU::Zero());
+    for (int i = 0; i < U; ++i) map_G_.col(i) = solve_at(VecU::Unit(i)) - map_c_;
+    s_ = keep;
+    out_ = keep_out;
+    map_ready_ = true;
+  }
+
   VecK solve_linear(VecK x) {
-    VecK R, scale;
-    evaluate(x, R, scale);
-    const VecK dx = -(Jinv_ * R);
-    x += dx;
-    out_.p_next += dP_ * dx;
+    if constexpr (kMapLane) {
+      if (!map_ready_) build_map();
+      const VecY y = map_c_ + map_G_ * map_input();
+      for (int i = 0; i < K; ++i) x(i) = y(i);
+      for (int i = 0; i < n; ++i) out_.p_next(i) = y(K + i);
+    } else {
+      VecK R, scale;
+      evaluate(x, R, scale);
+      const VecK dx = -(Jinv_ * R);
+      x += dx;
+      out_.p_next += dP_ * dx;
+    }
     if constexpr (Scheme::contact) out_.z_next = Scheme::next_z(sys_, s_.t, h_, s_.q, VecN(x.template head<n>()), s_.z);
     last_updates_ = 1;
     ++total_updates_;
@@ -333,8 +386,10 @@ class Stepper {
   } out_;  // p_{j+1}, z_{j+1} at the last iterate whose rows were evaluated
   int last_updates_ = 0;
   long total_updates_ = 0, jacobians_ = 0;
-  bool linear_lane_ = false;
+  bool linear_lane_ = false, map_ready_ = false;
   long lane_steps_ = 0;
+  VecY map_c_ = VecY::Zero();
+  Mat<T, K + n, U> map_G_ = Mat<T, K + n, U>::Zero();
 };
 
 }  // namespace geomint::generic

@@ -74,12 +74,23 @@ GEOMINT_DETECT(has_exact, std::declval<const Sys&>().exact(0.0))
 GEOMINT_DETECT(has_rhs, std::declval<const Sys&>().rhs(0.0, detail::V<Sys>(), detail::V<Sys>(),
                                                        std::declval<detail::V<Sys>&>()))
 GEOMINT_DETECT(has_linear_flag, Sys::linear)
+GEOMINT_DETECT(has_autonomous_flag, Sys::autonomous)
 #undef GEOMINT_DETECT
 
 template <class Sys>
 constexpr bool is_linear() {
   if constexpr (has_linear_flag_v<Sys>)
     return Sys::linear;
+  else
+    return false;
+}
+
+// A system that declares `static constexpr bool autonomous = true` has no explicit time in L, F, Phi (and no
+// holonomic constraint g(t, q)). With `linear`, its step is then one fixed affine map (checked like linear).
+template <class Sys>
+constexpr bool is_autonomous() {
+  if constexpr (has_autonomous_flag_v<Sys>)
+    return Sys::autonomous;
   else
     return false;
 }

@@ -16,6 +16,7 @@ struct CoupledOscillators {
   static constexpr int dof = 2;
   static constexpr int constraints = 0;
   static constexpr bool linear = true;
+  static constexpr bool autonomous = true;  // no explicit t: the generic step is one fixed affine map
 
   double alpha = 0.1, kappa = 4, q10 = 1, q20 = 0, v10 = 0, v20 = 0, T = 50;
 

@@ -16,6 +16,7 @@ struct Oscillator {
   static constexpr int dof = 1;
   static constexpr int constraints = 0;
   static constexpr bool linear = true;
+  static constexpr bool autonomous = true;  // no explicit t: the generic step is one fixed affine map
 
   double alpha = 0.01, q0 = -0.25, p0 = 0.75, T = 50;
 
