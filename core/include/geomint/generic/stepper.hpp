@@ -294,7 +294,8 @@ class Stepper {
       T sc = scale(r);
       for (int c = 0; c < K; ++c) sc += abs(J_(r, c)) * w(c);
       if (!(abs(R(r)) <= tol * sc + T(kappa) * std::numeric_limits<T>::denorm_min()))
-        fail(R, 1, "the system declares itself linear, but one Newton update did not solve the step");
+        fail(R, 1, kMapLane ? "the system declares itself linear and autonomous, but its fixed step map did not solve the step"
+                            : "the system declares itself linear, but one Newton update did not solve the step");
     }
     out_ = keep;
   }
