@@ -79,12 +79,6 @@ int main(int argc, char** argv) {
             out.push_back(e);
           }
           return out;
-        },
-        [](double e) { return std::move(RowWriter().put(e)).str(); },
-        [](const std::string& row) {
-          double e;
-          RowReader(row).get(e);
-          return e;
         });
     if (!sweep.root()) return 0;
     if (ref_kind_text.empty())  // every item ran on other ranks: name the reference all the same

@@ -137,12 +137,6 @@ int main(int argc, char** argv) {
             out.push_back(a);
           }
           return out;
-        },
-        [](const ModifiedAgreement& a) { return std::move(RowWriter().put(a.err_q).put(a.err_z).put(a.v_shift).put(a.steps)).str(); },
-        [](const std::string& row) {
-          ModifiedAgreement a;
-          RowReader(row).get(a.err_q).get(a.err_z).get(a.v_shift).get(a.steps);
-          return a;
         });
     if (!sweep.root()) return 0;
     std::vector<ModifiedAgreement> results(runs.size());

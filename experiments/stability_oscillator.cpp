@@ -83,12 +83,6 @@ int main(int argc, char** argv) {
             out.push_back({m.spectral_radius, static_cast<int>(classify(m, a)), dr, w});
           }
           return out;
-        },
-        [](const Cell& c) { return std::move(RowWriter().put(c)).str(); },
-        [](const std::string& row) {
-          Cell c;
-          RowReader(row).get(c);
-          return c;
         });
     if (!sweep.root()) return 0;
     TsvWriter tsv(dir / "stability_oscillator.tsv", "stability_oscillator", params,
@@ -218,12 +212,6 @@ int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<s
           out.push_back(c);
         }
         return out;
-      },
-      [](const Cell& c) { return std::move(RowWriter().put(c)).str(); },
-      [](const std::string& row) {
-        Cell c;
-        RowReader(row).get(c);
-        return c;
       });
   if (!sweep.root()) return 0;
   Params params = sysopt.header();

@@ -36,54 +36,6 @@
 
 namespace geomint {
 
-class Sweep {
- public:
-  // The process's place in the sweep: (rank, size) of MPI_COMM_WORLD under an MPI launcher, (0, 1) otherwise.
-  static const Sweep& world();
-
-  int rank() const { return rank_; }
-  int size() const { return size_; }
-  bool root() const { return rank_ == 0; }
-  bool distributed() const { return size_ > 1; }
-  static bool mpi_available();  // was the build made with MPI
-
-  // This rank's share [first, last) of items [0, n): contiguous, in rank order, with about equal total cost
-  // (cost[i] >= 0; empty: every item costs 1).
-  std::pair<std::size_t, std::size_t> share(std::size_t n, const std::vector<double>& cost = {}) const {
-    return share_of(rank_, size_, n, cost);
-  }
-  // The same for any (rank, size): what share() computes, testable in one process.
-  static std::pair<std::size_t, std::size_t> share_of(int rank, int size, std::size_t n,
-                                                      const std::vector<double>& cost = {});
-
-  // Gathers every rank's rows on rank 0, rank after rank (so in item order when each rank sends its share
-  // in order); other ranks get an empty vector. A single process gets `mine` back.
-  std::vector<std::string> gather(std::vector<std::string> mine) const;
-
-  // The whole pattern: compute(first, last) on this rank's share, gathered on rank 0 in item order.
-  template <class Result, class Compute, class Pack, class Unpack>
-  std::vector<Result> map(std::size_t n, const std::vector<double>& cost, Compute&& compute, Pack&& pack,
-                          Unpack&& unpack) const {
-    if (!distributed()) return compute(std::size_t{0}, n);
-    const auto [first, last] = share(n, cost);
-    std::vector<std::string> rows;
-    {
-      const std::vector<Result> mine = compute(first, last);
-      rows.reserve(mine.size());
-      for (const auto& r : mine) rows.push_back(pack(r));
-    }
-    rows = gather(std::move(rows));
-    std::vector<Result> all;
-    all.reserve(rows.size());
-    for (const auto& row : rows) all.push_back(unpack(row));
-    return all;
-  }
-
- private:
-  Sweep();
-  int rank_ = 0, size_ = 1;
-};
-
 // Bytes of one result row. put/get in the same order.
 class RowWriter {
  public:
@@ -149,6 +101,67 @@ class RowReader {
   }
   const std::string& row_;
   std::size_t pos_ = 0;
+};
+
+class Sweep {
+ public:
+  // The process's place in the sweep: (rank, size) of MPI_COMM_WORLD under an MPI launcher, (0, 1) otherwise.
+  static const Sweep& world();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool root() const { return rank_ == 0; }
+  bool distributed() const { return size_ > 1; }
+  static bool mpi_available();  // was the build made with MPI
+
+  // This rank's share [first, last) of items [0, n): contiguous, in rank order, with about equal total cost
+  // (cost[i] >= 0; empty: every item costs 1).
+  std::pair<std::size_t, std::size_t> share(std::size_t n, const std::vector<double>& cost = {}) const {
+    return share_of(rank_, size_, n, cost);
+  }
+  // The same for any (rank, size): what share() computes, testable in one process.
+  static std::pair<std::size_t, std::size_t> share_of(int rank, int size, std::size_t n,
+                                                      const std::vector<double>& cost = {});
+
+  // Gathers every rank's rows on rank 0, rank after rank (so in item order when each rank sends its share
+  // in order); other ranks get an empty vector. A single process gets `mine` back.
+  std::vector<std::string> gather(std::vector<std::string> mine) const;
+
+  // The whole pattern: compute(first, last) on this rank's share, gathered on rank 0 in item order.
+  template <class Result, class Compute, class Pack, class Unpack>
+  std::vector<Result> map(std::size_t n, const std::vector<double>& cost, Compute&& compute, Pack&& pack,
+                          Unpack&& unpack) const {
+    if (!distributed()) return compute(std::size_t{0}, n);
+    const auto [first, last] = share(n, cost);
+    std::vector<std::string> rows;
+    {
+      const std::vector<Result> mine = compute(first, last);
+      rows.reserve(mine.size());
+      for (const auto& r : mine) rows.push_back(pack(r));
+    }
+    rows = gather(std::move(rows));
+    std::vector<Result> all;
+    all.reserve(rows.size());
+    for (const auto& row : rows) all.push_back(unpack(row));
+    return all;
+  }
+
+  // The same for a trivially copyable Result: its bytes are the row.
+  template <class Result, class Compute>
+  std::vector<Result> map(std::size_t n, const std::vector<double>& cost, Compute&& compute) const {
+    static_assert(std::is_trivially_copyable_v<Result>, "give pack and unpack for this Result");
+    return map<Result>(
+        n, cost, std::forward<Compute>(compute), [](const Result& r) { return std::move(RowWriter().put(r)).str(); },
+        [](const std::string& row) {
+          Result r;
+          RowReader(row).get(r);
+          return r;
+        });
+  }
+
+ private:
+  Sweep();
+  int rank_ = 0, size_ = 1;
 };
 
 }  // namespace geomint
