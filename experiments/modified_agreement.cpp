@@ -3,7 +3,7 @@
 // symmetric second-order scheme, whose odd F_k vanish). K = 0 is the original equation.
 //   modified_agreement [--systems oscillator pendulum forced-oscillator] [--schemes la contact la-trapezoid]
 //                      [--orders 0 1 2 3 4] [--alpha 0.5] [--h-max (0.1 for K <= 1, 0.2 for K >= 2)] [--halvings 2] [--T 2]
-//                      [--tol 1e-13] [--out out]
+//                      [--tol 1e-13] [--threads <cores>] [--out out]
 // Discrete solutions: the generic Newton step in long double from each system's initial data (its default
 // parameters, with damping alpha). alpha = 0.5 by default: contact's odd-order terms are proportional to alpha
 // (F_1 = -alpha^2 q'/2 on the oscillator), and at alpha = 0.1 they stay below the next even-order term over
@@ -27,6 +27,7 @@
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/modified/automatic_registry.hpp"
+#include "geomint/parallel.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/study.hpp"
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
     double T = 2, tol = 1e-13, alpha = 0.5;
     std::vector<double> h_max;  // empty: 0.1 for K <= 1, 0.2 for K >= 2
     int halvings = 2;
+    unsigned threads = default_threads();
     Cli cli("modified_agreement", "discrete solutions against their order-K automatic modified equations, K = 0..4");
     cli.options.add_options()("systems", po::value(&systems)->multitoken()->default_value(systems, "oscillator pendulum forced-oscillator"), "systems")(
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact la-trapezoid"), "schemes")(
@@ -59,13 +61,16 @@ int main(int argc, char** argv) {
         "alpha", po::value(&alpha)->default_value(alpha), "damping alpha of every system")(
         "h-max", po::value(&h_max)->multitoken(), "largest step, per order (or one for all); default 0.1 for K <= 1, 0.2 for K >= 2")(
         "halvings", po::value(&halvings)->default_value(halvings), "number of halvings of h")(
-        "T", po::value(&T)->default_value(T), "horizon")("tol", po::value(&tol)->default_value(tol), "Odeint tolerance");
+        "T", po::value(&T)->default_value(T), "horizon")(
+        "threads", po::value(&threads)->default_value(threads), "worker threads (the files do not depend on them)")(
+        "tol", po::value(&tol)->default_value(tol), "Odeint tolerance");
     if (!cli.parse(argc, argv)) return 0;
     if (h_max.empty())
       for (int K : orders) h_max.push_back(K <= 1 ? 0.1 : 0.2);
     require(h_max.size() == 1 || h_max.size() == orders.size(), "give one --h-max, or one per order");
     for (double h : h_max) require_positive(h, "h-max");
     require(halvings >= 2 && halvings <= 8, "halvings must be in [2, 8]");
+    require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
     require_positive(T, "T");
     require(std::isfinite(tol) && tol >= 1e-15 && tol <= 1e-6, "tol must be in [1e-15, 1e-6]");
     auto steps_of = [&](std::size_t ki) {
@@ -121,9 +126,9 @@ int main(int argc, char** argv) {
     const auto by_item = sweep.map<ModifiedAgreement>(
         runs.size(), cost,
         [&](std::size_t first, std::size_t last) {
-          std::vector<ModifiedAgreement> out;
-          for (std::size_t i = first; i < last; ++i) {
-            const auto& r = runs[item[i]];
+          std::vector<ModifiedAgreement> out(last - first);
+          parallel_for(last - first, threads, [&](std::size_t k) {
+            const auto& r = runs[item[first + k]];
             ModifiedAgreement a;
             try {
               a = find_modified_system(r.system).agreement(pv, r.scheme, r.K, r.h, T, tol);
@@ -134,8 +139,8 @@ int main(int argc, char** argv) {
               std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
               a.err_q = a.err_z = a.v_shift = std::nan("");
             }
-            out.push_back(a);
-          }
+            out[k] = a;
+          });
           return out;
         });
     if (!sweep.root()) return 0;

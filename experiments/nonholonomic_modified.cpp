@@ -2,7 +2,8 @@
 // modified equation of the constrained LA and contact schemes with the modified multiplier and the modified
 // constraint Phi_h = Phi_d(q~(t), q~(t+h)) on which the discrete solution lies.
 //   nonholonomic_modified [--systems knife-edge foucault-rotation] [--schemes la contact] [--orders 0 1 2 3]
-//                         [--alpha 0.1] [--h-max 0.2] [--halvings 2] [--T 2] [--tol 1e-13] [--radii 6] [--out out]
+//                         [--alpha 0.1] [--h-max 0.2] [--halvings 2] [--T 2] [--tol 1e-13] [--radii 6] [--threads <cores>]
+//                         [--out out]
 // alpha (both systems' damping; the Foucault scene's default 1e-3 makes LA's odd-order terms, proportional to
 // alpha, too small to show over this range of h). Bigger runs: --orders 0 1 2 3 --halvings 3 --T 4.
 // Part 1, agreement: each discrete solution (generic Newton step, long double) against the solution of its
@@ -25,6 +26,7 @@
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/modified/automatic_registry.hpp"
+#include "geomint/parallel.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/study.hpp"
@@ -38,6 +40,7 @@ int main(int argc, char** argv) {
     std::vector<int> orders{1, 2, 3};
     double h_max = 0.2, T = 2, tol = 1e-13, alpha = 0.1;
     int halvings = 2, radii = 6;
+    unsigned threads = default_threads();
     Cli cli("nonholonomic_modified", "modified equations, multipliers and constraints of the nonholonomic integrators");
     cli.options.add_options()("systems", po::value(&systems)->multitoken()->default_value(systems, "knife-edge foucault-rotation"), "constrained systems")(
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"), "schemes")(
@@ -46,13 +49,15 @@ int main(int argc, char** argv) {
         "h-max", po::value(&h_max)->default_value(h_max), "largest step")(
         "halvings", po::value(&halvings)->default_value(halvings), "number of halvings of h")(
         "T", po::value(&T)->default_value(T), "horizon (s)")("tol", po::value(&tol)->default_value(tol), "Odeint tolerance")(
-        "radii", po::value(&radii)->default_value(radii), "part 2: r = 0.1 ... 0.1^radii");
+        "radii", po::value(&radii)->default_value(radii), "part 2: r = 0.1 ... 0.1^radii")(
+        "threads", po::value(&threads)->default_value(threads), "worker threads (the files do not depend on them)");
     if (!cli.parse(argc, argv)) return 0;
     require_positive(h_max, "h-max");
     require(halvings >= 2 && halvings <= 8, "halvings must be in [2, 8]");
     require_positive(T, "T");
     require(std::isfinite(tol) && tol >= 1e-15 && tol <= 1e-6, "tol must be in [1e-15, 1e-6]");
     require(radii >= 3 && radii <= 12, "radii must be in [3, 12]");
+    require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
     std::vector<double> hs;
     for (int i = 0; i <= halvings; ++i) hs.push_back(h_max / std::pow(2.0, i));
     for (double h : hs) step_count(h, T);
@@ -78,22 +83,34 @@ int main(int argc, char** argv) {
                   {"system", "scheme", "K", "h", "err_modified", "err_mu", "phi_d", "phi_h0", "phi_h_drift"});
     std::printf("%-18s %-8s %-2s %-7s %11s %11s %11s %11s %11s\n", "system", "scheme", "K", "h", "err_q", "err_mu", "phi_d",
                 "phi_h(0)", "phi_h drift");
-    for (const auto& s : systems) {
-      const auto& ms = find_modified_system(s);
+    struct Run {
+      std::string system, scheme;
+      int K;
+      double h;
+    };
+    std::vector<Run> runs;
+    for (const auto& s : systems)
       for (const auto& x : schemes)
         for (int K : orders)
-          for (double h : hs) {
-            ModifiedAgreement a;
-            try {
-              a = ms.agreement(pv, x, K, h, T, tol);
-            } catch (const NumericalFailure& e) {
-              std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", s.c_str(), x.c_str(), K, h, e.what());
-              a.err_q = a.err_mu = a.phi_d = a.phi_h0 = a.phi_h_drift = std::nan("");
-            }
-            tsv.row(s, x, K, h, a.err_q, a.err_mu, a.phi_d, a.phi_h0, a.phi_h_drift);
-            std::printf("%-18s %-8s %-2d %-7g %11.3e %11.3e %11.3e %11.3e %11.3e\n", s.c_str(), x.c_str(), K, h, a.err_q,
-                        a.err_mu, a.phi_d, a.phi_h0, a.phi_h_drift);
-          }
+          for (double h : hs) runs.push_back({s, x, K, h});
+    std::vector<ModifiedAgreement> results(runs.size());
+    parallel_for(runs.size(), threads, [&](std::size_t i) {
+      const auto& r = runs[i];
+      ModifiedAgreement a;
+      try {
+        a = find_modified_system(r.system).agreement(pv, r.scheme, r.K, r.h, T, tol);
+      } catch (const NumericalFailure& e) {
+        std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
+        a.err_q = a.err_mu = a.phi_d = a.phi_h0 = a.phi_h_drift = std::nan("");
+      }
+      results[i] = a;
+    });
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const auto& r = runs[i];
+      const auto& a = results[i];
+      tsv.row(r.system, r.scheme, r.K, r.h, a.err_q, a.err_mu, a.phi_d, a.phi_h0, a.phi_h_drift);
+      std::printf("%-18s %-8s %-2d %-7g %11.3e %11.3e %11.3e %11.3e %11.3e\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h,
+                  a.err_q, a.err_mu, a.phi_d, a.phi_h0, a.phi_h_drift);
     }
     tsv.commit();
     const auto t = plots::read_tsv(dir / "nonholonomic_modified.tsv");

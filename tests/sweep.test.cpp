@@ -3,6 +3,8 @@
 // byte for byte with the single-process run.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include <cstring>
 
 #include <cstdlib>
@@ -10,6 +12,8 @@
 #include <numeric>
 
 #include "geomint/foucault_ensemble.hpp"
+#include "geomint/error.hpp"
+#include "geomint/parallel.hpp"
 #include "geomint/sweep.hpp"
 #include "helpers.hpp"
 
@@ -71,6 +75,18 @@ TEST_CASE("a sweep's shares cover every item once, in rank order, with about equ
       [](int) -> std::string { throw std::logic_error("a single process must not pack"); },
       [](const std::string&) -> int { throw std::logic_error("a single process must not unpack"); });
   CHECK(all.size() == 5);
+}
+
+TEST_CASE("parallel_for runs every item exactly once on any thread count, and rethrows a failure", "[sweep]") {
+  for (unsigned threads : {1u, 2u, 3u, 8u}) {
+    std::vector<int> hits(1000, 0);
+    parallel_for(hits.size(), threads, [&](std::size_t i) { hits[i] += 1; });
+    CHECK(std::count(hits.begin(), hits.end(), 1) == 1000);
+    CHECK_THROWS_WITH(parallel_for(100, threads, [](std::size_t i) {
+                        if (i == 37) throw NumericalFailure(7, "test", "item 37");
+                      }),
+                      Catch::Contains("item 37"));
+  }
 }
 
 TEST_CASE("rows pack and unpack bit-exactly, and a short row is refused", "[sweep]") {
