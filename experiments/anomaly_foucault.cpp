@@ -24,6 +24,7 @@
 #include <set>
 #include <thread>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/foucault_ensemble.hpp"
@@ -94,6 +95,12 @@ int main(int argc, char** argv) {
     require(worst >= 0 && worst <= 100, "worst must be in [0, 100]");
     require(quad_full_steps >= 0, "quad-full-steps must be non-negative");
     const Simd simd = parse_simd(simd_name);
+    {
+      double steps = 0;
+      for (double h : hs) steps += base.T / h;
+      plan_steps(steps * static_cast<double>(runs * names.size() * constraints.size() * alphas.size()),
+                 "the ensemble (runs x schemes x constraints x alpha x T/h)");
+    }
     const auto dir = prepare_output_dir(cli.out);
 
     const double s = base.s();

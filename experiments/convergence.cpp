@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -42,8 +43,11 @@ int main(int argc, char** argv) {
     const ReferenceKind ref_kind = parse_reference(ref_name);
     check_reference(sys, ref_kind, tol);
     const auto hs = halving_sequence(h_max, h_min);
+    if (ref_kind != ReferenceKind::exact) check_tolerance(tol, "tol");
     for (const auto& pv : combos)
-      for (double h : hs) step_count(h, sys.horizon(pv));
+      for (double h : hs)
+        plan_steps(static_cast<double>(step_count(h, sys.horizon(pv))) * static_cast<double>(schemes.size()),
+                   "the sweep (combinations x schemes x T/h)");
     const auto dir = prepare_output_dir(cli.out);
     const std::string stem = sys.name + "_convergence";
 

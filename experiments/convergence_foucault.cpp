@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/foucault.hpp"
@@ -68,6 +69,7 @@ int main(int argc, char** argv) {
     const FoucaultStart start = parse_foucault_start(start_name);
     for (const auto& n : names) visit_foucault_scheme(n, [](auto) {});
     require(std::isfinite(tol) && tol > 0 && tol <= 1e-6, "tol must be in (0, 1e-6]");
+    check_tolerance(tol, "tol");
     const auto dir = prepare_output_dir(cli.out);
 
     const double s = base.s();

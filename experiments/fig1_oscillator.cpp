@@ -6,12 +6,15 @@
 // and out/fig1_oscillator.{png,pdf} drawn from the first file.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <cstdio>
 #include <map>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
+#include "geomint/record.hpp"
 #include "geomint/oscillator_registry.hpp"
 #include "geomint/plots/figure.hpp"
 
@@ -36,6 +39,9 @@ int main(int argc, char** argv) {
     // Validate everything before writing anything.
     const long N = step_count(h, T);
     require(ref_factor >= 1, "ref-factor must be a positive integer");
+    // The reference run at h/ref-factor is stored (t, q, p) before the table is written.
+    check_steps(static_cast<double>(N) * ref_factor, "the reference run (T/h times ref-factor)");
+    check_memory(static_cast<double>(N) * ref_factor * 3 * sizeof(double), "the reference trajectory");
     require_finite(shift, "shift");
     for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
     std::vector<const OscillatorSchemeInfo*> schemes;
@@ -61,7 +67,17 @@ int main(int argc, char** argv) {
                 r.p[static_cast<size_t>(j * ref_factor)], q_ref(j), 0.0,
                 std::abs(q_ref(j) - oscillator_exact(a, q0, p0, static_cast<double>(j) * h).q));
       for (const auto* s : schemes) {
-        const auto tr = s->run(scene, h);
+        using Run = decltype(s->run(scene, h));
+        // A run that fails is missing (no trajectory rows, nan in the summary); the sweep goes on.
+        const auto run = run_or_missing(
+            s->name + " alpha=" + show(a) + " h=" + show(h), [&] { return std::optional<Run>(s->run(scene, h)); },
+            [] { return std::optional<Run>(); });
+        if (!run) {
+          const double nan = std::nan("");
+          summary.row(a, s->name, nan, nan, nan);
+          continue;
+        }
+        const auto& tr = *run;
         double max_rel = 0, max_abs = 0, max_exact = 0;
         for (long j = 0; j <= N; ++j) {
           const auto k = static_cast<size_t>(j);

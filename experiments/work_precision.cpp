@@ -23,6 +23,7 @@
 #include "geomint/error.hpp"
 #include "geomint/integrate.hpp"
 #include "geomint/io.hpp"
+#include "geomint/record.hpp"
 #include "geomint/oscillator_registry.hpp"
 #include "geomint/system_cli.hpp"
 #include "geomint/plots/figure.hpp"
@@ -163,18 +164,29 @@ int main(int argc, char** argv) {
     std::vector<Point> pts;
     for (double a : alphas) {
       std::fprintf(stderr, "work_precision: alpha = %g ...\n", a);
+      // A run that fails is a missing point (nan error and times); the sweep goes on.
+      auto point = [&](const std::string& method, const char* knob, double value, long steps, auto&& run) {
+        const double nan = std::nan("");
+        return run_or_missing(method + " alpha=" + show(a) + " " + knob + "=" + show(value), run, [&] {
+          return Point{method, knob, a, value, nan, steps, {nan, nan, nan, reps}};
+        });
+      };
       for (double h : hs) {
         for (const auto& name : oscillator_defaults("work_precision"))
-          pts.push_back(fixed_step(find_oscillator_scheme(name), a, h, reps));
-        pts.push_back(odeint_rk4(a, h, reps));
+          pts.push_back(point(name, "h", h, step_count(h, T), [&] { return fixed_step(find_oscillator_scheme(name), a, h, reps); }));
+        pts.push_back(point("odeint-rk4", "h", h, step_count(h, T), [&] { return odeint_rk4(a, h, reps); }));
       }
       for (double tol : tols) {
-        pts.push_back(odeint_adaptive(
-            "odeint-dopri5",
-            [](double t) { return odeint::make_controlled(t, t, odeint::runge_kutta_dopri5<State2>()); }, a, tol, reps));
-        pts.push_back(odeint_adaptive(
-            "odeint-bulirsch-stoer", [](double t) { return odeint::bulirsch_stoer<State2>(t, t); }, a, tol, reps));
-        pts.push_back(gsl_rk8pd(a, tol, reps));
+        pts.push_back(point("odeint-dopri5", "tol", tol, 0, [&] {
+          return odeint_adaptive(
+              "odeint-dopri5",
+              [](double t) { return odeint::make_controlled(t, t, odeint::runge_kutta_dopri5<State2>()); }, a, tol, reps);
+        }));
+        pts.push_back(point("odeint-bulirsch-stoer", "tol", tol, 0, [&] {
+          return odeint_adaptive(
+              "odeint-bulirsch-stoer", [](double t) { return odeint::bulirsch_stoer<State2>(t, t); }, a, tol, reps);
+        }));
+        pts.push_back(point("gsl-rk8pd", "tol", tol, 0, [&] { return gsl_rk8pd(a, tol, reps); }));
       }
     }
     const Params params{{"alpha", format_list(alphas)}, {"T", format_number(T)}, {"q0", format_number(q0)}, {"p0", format_number(p0)},
@@ -294,14 +306,20 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
       }
       do_not_optimize(x[0]);
     };
-    std::vector<State> xs;
-    run(&xs);
-    double e = 0;
-    for (long j = 0; j <= N; ++j)
-      for (int i = 0; i < n; ++i)
-        e = std::max(e, std::abs(xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] -
-                                 ref.q[static_cast<std::size_t>(j * stride * n + i)]));
-    pts.push_back({"odeint-rk4", "h", std::nan(""), h, e, N, time_per_call([&] { run(nullptr); }, reps)});
+    const double nan = std::nan("");
+    pts.push_back(run_or_missing(
+        sys.name + " odeint-rk4 h=" + show(h),
+        [&] {
+          std::vector<State> xs;
+          run(&xs);
+          double e = 0;
+          for (long j = 0; j <= N; ++j)
+            for (int i = 0; i < n; ++i)
+              e = std::max(e, std::abs(xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] -
+                                       ref.q[static_cast<std::size_t>(j * stride * n + i)]));
+          return Point{"odeint-rk4", "h", nan, h, e, N, time_per_call([&] { run(nullptr); }, reps)};
+        },
+        [&] { return Point{"odeint-rk4", "h", nan, h, nan, N, {nan, nan, nan, reps}}; }));
   }
   for (double tol : tols) {
     auto dense = [&](auto stepper, std::vector<State>* out) {
@@ -311,18 +329,25 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
       do_not_optimize(x[0]);
       return static_cast<long>(k);
     };
-    {
-      std::vector<State> xs;
-      const long steps = dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), &xs);
-      pts.push_back({"odeint-dopri5", "tol", std::nan(""), tol, error_of(xs), steps,
-                     time_per_call([&] { dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), nullptr); }, reps)});
-    }
-    {
-      std::vector<State> xs;
-      const long steps = dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), &xs);
-      pts.push_back({"odeint-bulirsch-stoer", "tol", std::nan(""), tol, error_of(xs), steps,
-                     time_per_call([&] { dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), nullptr); }, reps)});
-    }
+    const double nan = std::nan("");
+    pts.push_back(run_or_missing(
+        sys.name + " odeint-dopri5 tol=" + show(tol),
+        [&] {
+          std::vector<State> xs;
+          const long steps = dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), &xs);
+          return Point{"odeint-dopri5", "tol", nan, tol, error_of(xs), steps,
+                       time_per_call([&] { dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), nullptr); }, reps)};
+        },
+        [&] { return Point{"odeint-dopri5", "tol", nan, tol, nan, 0, {nan, nan, nan, reps}}; }));
+    pts.push_back(run_or_missing(
+        sys.name + " odeint-bulirsch-stoer tol=" + show(tol),
+        [&] {
+          std::vector<State> xs;
+          const long steps = dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), &xs);
+          return Point{"odeint-bulirsch-stoer", "tol", nan, tol, error_of(xs), steps,
+                       time_per_call([&] { dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), nullptr); }, reps)};
+        },
+        [&] { return Point{"odeint-bulirsch-stoer", "tol", nan, tol, nan, 0, {nan, nan, nan, reps}}; }));
   }
   Params params = sysopt.header();
   params.insert(params.end(), {{"h", format_list(hs)}, {"tol", format_list(tols)}, {"reps", std::to_string(reps)},

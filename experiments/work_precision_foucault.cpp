@@ -13,6 +13,7 @@
 #include "geomint/error.hpp"
 #include "geomint/foucault.hpp"
 #include "geomint/io.hpp"
+#include "geomint/record.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 #include "geomint/timing.hpp"
@@ -90,11 +91,33 @@ int main(int argc, char** argv) {
     std::vector<Point> pts;
     for (const auto& hz : horizons) {
       std::fprintf(stderr, "work_precision_foucault: T = %g s ...\n", hz.T);
+      // A run that fails is a missing point (nan error and times); the sweep goes on.
+      const double nan = std::nan("");
+      auto missing = [&](const std::string& method, const char* knob, double value, long steps) {
+        return [&, method, knob, value, steps] {
+          return Point{method, to_string(hz.con), knob, hz.T, value, nan, steps, {nan, nan, nan, reps}};
+        };
+      };
+      auto where = [&](const std::string& method, const char* knob, double value) {
+        return method + " constraint=" + to_string(hz.con) + " T=" + show(hz.T) + " alpha=" + show(alpha) + " " + knob +
+               "=" + show(value);
+      };
       for (double h : hs) {
-        pts.push_back(scheme_point<schemes::LaNh>(sc, hz.con, hz.T, h, reps));
-        pts.push_back(scheme_point<schemes::ContactNh>(sc, hz.con, hz.T, h, reps));
+        const long N = step_count(h, hz.T);
+        pts.push_back(run_or_missing(where(schemes::LaNh::name, "h", h),
+                                     [&] { return scheme_point<schemes::LaNh>(sc, hz.con, hz.T, h, reps); },
+                                     missing(schemes::LaNh::name, "h", h, N)));
+        pts.push_back(run_or_missing(where(schemes::ContactNh::name, "h", h),
+                                     [&] { return scheme_point<schemes::ContactNh>(sc, hz.con, hz.T, h, reps); },
+                                     missing(schemes::ContactNh::name, "h", h, N)));
       }
-      for (double tol : tols) pts.push_back(odeint_point(sc, hz.T, tol, reps));
+      for (double tol : tols)
+        pts.push_back(run_or_missing(where("odeint-dopri5", "tol", tol), [&] { return odeint_point(sc, hz.T, tol, reps); },
+                                     [&] {
+                                       Point p = missing("odeint-dopri5", "tol", tol, 0)();
+                                       p.constraint = "ode";
+                                       return p;
+                                     }));
     }
     const Params params{{"alpha", format_number(alpha)}, {"T", "4 (constraint paper), 100 (constraint rotation)"},
                         {"h", format_list(hs)}, {"tol", format_list(tols)}, {"start", "legendre"},

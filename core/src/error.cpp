@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "geomint/budget.hpp"
+
 namespace geomint {
 
 long step_count(double h, double T) {
@@ -10,6 +12,9 @@ long step_count(double h, double T) {
   require_positive(T, "T");
   require(h <= T, "h = " + show(h) + " exceeds the horizon T = " + show(T));
   const double n = T / h;
+  // Before the cast: T/h beyond a long is undefined behaviour (it gave negative step counts), beyond
+  // max_steps_per_run it is work no run will finish.
+  check_steps(n, "T/h = " + show(T) + "/" + show(h));
   const double N = std::round(n);
   if (std::abs(n - N) > 1e-9 * N) {
     std::ostringstream os;

@@ -1,11 +1,17 @@
 #include "geomint/plots/figure.hpp"
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
 #include <fstream>
+#include <spawn.h>
 #include <sstream>
-
-#include <gnuplot-iostream.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -35,7 +41,7 @@ std::vector<double> TsvTable::numbers(const std::string& name, const std::functi
 }
 
 TsvTable read_tsv(const std::filesystem::path& path) {
-  std::ifstream in(path);
+  std::ifstream in(output_path_for_reading(path));  // a table of this run is still in its staging folder
   require(static_cast<bool>(in), "cannot read '" + path.string() + "'");
   TsvTable t;
   std::string line;
@@ -75,13 +81,22 @@ std::string style_for(const std::string& scheme, const std::string& with) {
 
 namespace {
 
+namespace fs = std::filesystem;
+
+// Text for gnuplot as a single-quoted string: no backquote substitution, no macro expansion, no escapes in
+// gnuplot's single-quoted strings; a quote is doubled, and line breaks (which would end the command) and NUL
+// become spaces. Only program-chosen text reaches gnuplot this way (titles); paths never do.
 std::string quote(const std::string& s) {
-  std::string q = "\"";
+  std::string q = "'";
   for (char c : s) {
-    if (c == '"' || c == '\\') q += '\\';
-    q += c;
+    if (c == '\'')
+      q += "''";
+    else if (c == '\n' || c == '\r' || c == '\0')
+      q += ' ';
+    else
+      q += c;
   }
-  return q + "\"";
+  return q + "'";
 }
 
 // Points per row of a heat map (x varies fastest, rows of constant y, every row as long).
@@ -93,16 +108,132 @@ std::size_t grid_nx(const Series& s) {
   return nx;
 }
 
-void render(const Figure& fig, const std::string& terminal, const std::filesystem::path& tmp) {
-  // Drop non-finite points: a failed run is a missing point, never a NaN in a figure.
+// The axes a panel's setup puts on a log scale ("set logscale xy", "set log y", "set logscale" = all).
+void log_axes(const std::string& setup, bool& logx, bool& logy) {
+  logx = logy = false;
+  std::istringstream in(setup);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string set, what, axes;
+    words >> set >> what;
+    if (set != "set" || what.rfind("log", 0) != 0) continue;
+    if (!(words >> axes) || axes.empty() || axes.find_first_not_of("xyzcb2") != std::string::npos) axes = "xy";
+    for (char c : axes) {
+      if (c == 'x') logx = true;
+      if (c == 'y') logy = true;
+    }
+  }
+}
+
+// A line of gnuplot's error output as one line of ours: what gnuplot said, lines joined, echoes dropped.
+std::string one_line(const std::string& text) {
+  std::string out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto b = line.find_first_not_of(" \t^");
+    if (b == std::string::npos) continue;
+    if (line.rfind("gnuplot>", 0) == 0) continue;  // the echo of the command
+    out += (out.empty() ? "" : "; ") + line.substr(b);
+  }
+  return out.empty() ? "no message" : out;
+}
+
+// Runs gnuplot with `cwd` as its working directory (no shell: posix_spawnp), the script on its standard input,
+// its standard error captured in a program-named file there. Throws with gnuplot's message unless it exits 0.
+void run_gnuplot(const fs::path& cwd, const std::string& script) {
+  static const bool pipe_ignored = [] {
+    std::signal(SIGPIPE, SIG_IGN);  // a gnuplot that died is reported by its status, not by killing us
+    return true;
+  }();
+  (void)pipe_ignored;
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(std::string("cannot start gnuplot: ") + std::strerror(errno));
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_adddup2(&fa, fds[0], 0);
+  posix_spawn_file_actions_addchdir_np(&fa, cwd.c_str());
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 2, "gnuplot-stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  sigset_t def;
+  sigemptyset(&def);
+  for (int s : {SIGPIPE, SIGINT, SIGTERM}) sigaddset(&def, s);
+  posix_spawnattr_setsigdefault(&attr, &def);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF);
+  char arg0[] = "gnuplot";
+  char* argv[] = {arg0, nullptr};
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, "gnuplot", &fa, &attr, argv, environ);
+  posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&attr);
+  ::close(fds[0]);
+  if (rc != 0) {
+    ::close(fds[1]);
+    throw std::runtime_error(std::string("cannot start gnuplot: ") + std::strerror(rc));
+  }
+  OutputRun::set_helper(pid);
+  const char* p = script.data();
+  std::size_t left = script.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fds[1], p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // gnuplot stopped reading: its status and message tell why
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  ::close(fds[1]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  OutputRun::set_helper(0);
+  std::string err;
+  {
+    std::ifstream in(cwd / "gnuplot-stderr.txt");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    err = ss.str();
+  }
+  std::error_code ec;
+  fs::remove(cwd / "gnuplot-stderr.txt", ec);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw std::runtime_error("gnuplot failed (" +
+                             (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
+                                                : "signal " + std::to_string(WTERMSIG(status))) +
+                             "): " + one_line(err));
+}
+
+// Is the file gnuplot wrote complete? A PNG ends with its IEND chunk, a PDF with %%EOF: a full disk or a
+// killed gnuplot leaves neither.
+bool complete(const fs::path& file, const std::string& ext) {
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
+  if (!in) return false;
+  const auto size = static_cast<long>(in.tellg());
+  const long tail = std::min<long>(size, 32);
+  if (tail < 8) return false;
+  std::string t(static_cast<std::size_t>(tail), '\0');
+  in.seekg(size - tail);
+  in.read(t.data(), tail);
+  if (!in) return false;
+  if (ext == ".png") return t.compare(t.size() - 8, 8, std::string("IEND\xae\x42\x60\x82", 8)) == 0;
+  return t.find("%%EOF") != std::string::npos;
+}
+
+std::string render_script(const Figure& fig, const std::string& terminal, const std::string& output_name) {
+  // Drop points a panel cannot show: non-finite ones (a failed run is a missing point, never a NaN in a
+  // figure), and non-positive ones on a log axis.
   std::vector<Panel> panels = fig.panels;
-  for (auto& p : panels)
+  for (auto& p : panels) {
+    bool logx = false, logy = false;
+    log_axes(p.setup, logx, logy);
     for (auto& s : p.series) {
       if (!s.z.empty()) continue;  // heat maps keep their grid; NaN cells are drawn as background
       const bool bars = !s.ylow.empty();
       Series clean{{}, {}, s.title, s.style, {}};
       for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
-        if (std::isfinite(s.x[i]) && std::isfinite(s.y[i]) &&
+        if (std::isfinite(s.x[i]) && std::isfinite(s.y[i]) && (!logx || s.x[i] > 0) && (!logy || s.y[i] > 0) &&
             (!bars || (std::isfinite(s.ylow.at(i)) && std::isfinite(s.yhigh.at(i))))) {
           clean.x.push_back(s.x[i]);
           clean.y.push_back(s.y[i]);
@@ -113,70 +244,78 @@ void render(const Figure& fig, const std::string& terminal, const std::filesyste
         }
       s = std::move(clean);
     }
-  {
-    Gnuplot gp("gnuplot");
-    gp << "set terminal " << terminal << "\n";
-    gp << "set output " << quote(tmp.string()) << "\n";
-    gp << "set encoding utf8\nset grid lc rgb '#dddddd'\nset key box opaque samplen 2 font ',9'\n";
-    const bool multi = fig.rows * fig.cols > 1;
-    if (multi)
-      gp << "set multiplot layout " << fig.rows << "," << fig.cols << " title " << quote(fig.title) << "\n";
-    else
-      gp << "set title " << quote(fig.title) << "\n";
-    for (const auto& p : panels) {
-      gp << "reset session\nset grid lc rgb '#dddddd'\nset key box opaque samplen 2 font ',9'\n" << p.setup << "\n";
-      std::string cmd = "plot ";
-      bool first = true;
-      for (const auto& s : p.series) {
-        if (s.x.empty()) continue;  // every point of this series failed
-        // Points go as binary records: gnuplot reads inline text a few bytes per system call, which made
-        // figures of tens of thousands of points take seconds.
-        // Heat maps go as a binary grid of (x, y, z) records, x varying fastest, nx per row.
-        // Error bars: (x, y, ylow, yhigh) records.
-        cmd += (first ? "" : ", ") +
-               (!s.z.empty() ? "'-' binary record=(" + std::to_string(grid_nx(s)) + "," +
-                                   std::to_string(s.z.size() / grid_nx(s)) +
-                                   ") format='%float64%float64%float64' using 1:2:3 with "
-                : !s.ylow.empty() ? "'-' binary record=" + std::to_string(s.x.size()) +
-                                        " format='%float64%float64%float64%float64' using 1:2:3:4 with "
-                                  : "'-' binary" + gp.binFmt1d(std::make_pair(s.x, s.y), "record") + " using 1:2 with ") +
-               s.style + (s.title.empty() ? std::string(" notitle") : " title " + quote(s.title));
-        first = false;
+  }
+  std::string gp;
+  gp += "set terminal " + terminal + "\n";
+  gp += "set output " + quote(output_name) + "\n";
+  gp += "set encoding utf8\nset grid lc rgb '#dddddd'\nset key box opaque samplen 2 font ',9'\n";
+  const bool multi = fig.rows * fig.cols > 1;
+  if (multi)
+    gp += "set multiplot layout " + std::to_string(fig.rows) + "," + std::to_string(fig.cols) + " title " +
+          quote(fig.title) + "\n";
+  else
+    gp += "set title " + quote(fig.title) + "\n";
+  std::string data;
+  for (const auto& p : panels) {
+    gp += "reset session\nset grid lc rgb '#dddddd'\nset key box opaque samplen 2 font ',9'\n" + p.setup + "\n";
+    std::string cmd = "plot ";
+    bool any = false;
+    data.clear();
+    for (const auto& s : p.series) {
+      if (s.x.empty()) continue;  // every point of this series failed
+      // Points go inline as binary records (x varying fastest for heat maps, nx per row).
+      std::vector<double> rec;
+      std::string fmt;
+      if (!s.z.empty()) {
+        const std::size_t nx = grid_nx(s);
+        fmt = "'-' binary record=(" + std::to_string(nx) + "," + std::to_string(s.z.size() / nx) +
+              ") format='%float64%float64%float64' using 1:2:3 with ";
+        for (std::size_t i = 0; i < s.z.size(); ++i) rec.insert(rec.end(), {s.x[i], s.y[i], s.z[i]});
+      } else if (!s.ylow.empty()) {
+        fmt = "'-' binary record=" + std::to_string(s.x.size()) +
+              " format='%float64%float64%float64%float64' using 1:2:3:4 with ";
+        for (std::size_t i = 0; i < s.x.size(); ++i) rec.insert(rec.end(), {s.x[i], s.y[i], s.ylow[i], s.yhigh[i]});
+      } else {
+        fmt = "'-' binary record=" + std::to_string(s.x.size()) + " format='%float64%float64' using 1:2 with ";
+        for (std::size_t i = 0; i < s.x.size(); ++i) rec.insert(rec.end(), {s.x[i], s.y[i]});
       }
-      if (!p.extra_plots.empty()) {
-        cmd += (first ? "" : ", ") + p.extra_plots;
-        first = false;
-      }
-      if (first)  // every point failed: say so in an empty panel (gnuplot refuses to plot nothing)
-        cmd = "unset logscale\nset xrange [0:1]\nset yrange [0:1]\nunset xtics\nunset ytics\n"
-              "set label 'no data: every run in this panel failed' at graph 0.5, 0.5 center\nplot -1 notitle";
-      gp << cmd << "\n";
-      for (const auto& s : p.series) {
-        if (s.x.empty()) continue;
-        if (!s.ylow.empty()) {
-          std::vector<double> rec;
-          rec.reserve(4 * s.x.size());
-          for (std::size_t i = 0; i < s.x.size(); ++i) rec.insert(rec.end(), {s.x[i], s.y[i], s.ylow[i], s.yhigh[i]});
-          gp.write(reinterpret_cast<const char*>(rec.data()), static_cast<std::streamsize>(rec.size() * sizeof(double)));
-        } else if (s.z.empty()) {
-          gp.sendBinary1d(std::make_pair(s.x, s.y));
-        } else {
-          std::vector<double> xyz;
-          xyz.reserve(3 * s.z.size());
-          for (std::size_t i = 0; i < s.z.size(); ++i) xyz.insert(xyz.end(), {s.x[i], s.y[i], s.z[i]});
-          gp.write(reinterpret_cast<const char*>(xyz.data()), static_cast<std::streamsize>(xyz.size() * sizeof(double)));
-        }
-      }
+      cmd += (any ? ", " : "") + fmt + s.style + (s.title.empty() ? std::string(" notitle") : " title " + quote(s.title));
+      data.append(reinterpret_cast<const char*>(rec.data()), rec.size() * sizeof(double));
+      any = true;
     }
-    if (multi) gp << "unset multiplot\n";
-    gp << "set output\n";
-  }  // gnuplot exits and the file is complete when gp is destroyed
+    const bool had_series = !p.series.empty();
+    if (!any && had_series) {
+      // Every point failed or cannot be shown: say so in an empty panel (gnuplot refuses to plot nothing).
+      cmd = "unset logscale\nset xrange [0:1]\nset yrange [0:1]\nunset xtics\nunset ytics\nunset colorbox\n"
+            "set label 'no finite data: every run in this panel failed or gave values this axis cannot show' "
+            "at graph 0.5, 0.5 center\nplot -1 notitle";
+    } else {
+      if (!p.extra_plots.empty()) cmd += (any ? ", " : "") + p.extra_plots;
+      if (!any && p.extra_plots.empty())
+        cmd = "unset logscale\nset xrange [0:1]\nset yrange [0:1]\nunset xtics\nunset ytics\n"
+              "set label 'no data' at graph 0.5, 0.5 center\nplot -1 notitle";
+    }
+    gp += cmd + "\n";
+    gp += data;
+  }
+  if (multi) gp += "unset multiplot\n";
+  gp += "set output\n";
+  return gp;
+}
+
+// Draws into `dir` (a folder of ours) under program-chosen names and returns the complete file's path.
+fs::path render(const Figure& fig, const std::string& terminal, const std::string& ext, const fs::path& dir) {
+  const std::string name = "gnuplot-output" + ext;
+  run_gnuplot(dir, render_script(fig, terminal, name));
+  if (!complete(dir / name, ext))
+    throw std::runtime_error("gnuplot could not finish the " + ext.substr(1) +
+                             " file (disk full or write error?): the previous figure is unchanged");
+  return dir / name;
 }
 
 }  // namespace
 
 void Figure::draw(const std::filesystem::path& stem) const {
-  namespace fs = std::filesystem;
   const std::string size_px = std::to_string(static_cast<int>(width_in * 140)) + "," +
                               std::to_string(static_cast<int>(height_in * 140));
   const std::string size_in = std::to_string(width_in) + "in," + std::to_string(height_in) + "in";
@@ -185,19 +324,50 @@ void Figure::draw(const std::filesystem::path& stem) const {
     std::string terminal;
   } outs[] = {{".png", "pngcairo enhanced size " + size_px + " font 'Sans,10'"},
               {".pdf", "pdfcairo enhanced size " + size_in + " font 'Sans,8'"}};
+  // gnuplot works in a folder of ours (the run's staging folder, or a private one beside the figure when no
+  // run is active) and sees only names we chose there: the user's path never reaches it.
+  OutputRun* run = OutputRun::current();
+  fs::path png_final = stem, dummy = stem;
+  png_final += ".png";
+  const bool staged = run && run->owns(png_final);
+  fs::path work;
+  if (staged) {
+    work = run->staging();
+  } else {
+    const fs::path parent = stem.parent_path().empty() ? fs::path(".") : stem.parent_path();
+    std::string tmpl = (parent / ".geomint-figure-XXXXXX").string();
+    if (::mkdtemp(tmpl.data()) == nullptr)
+      throw std::runtime_error("cannot write in '" + parent.string() + "': " + std::strerror(errno));
+    work = tmpl;
+  }
+  struct Cleanup {
+    fs::path dir;
+    bool remove_dir;
+    ~Cleanup() {
+      std::error_code ec;
+      for (const char* n : {"gnuplot-output.png", "gnuplot-output.pdf", "gnuplot-stderr.txt"}) fs::remove(dir / n, ec);
+      if (remove_dir) fs::remove_all(dir, ec);
+    }
+  } cleanup{work, !staged};
+  std::vector<std::pair<fs::path, fs::path>> done;  // rendered file -> final path
   for (const auto& o : outs) {
     fs::path final_path = stem;
     final_path += o.ext;
-    fs::path tmp = final_path;
-    tmp += ".tmp";
-    render(*this, o.terminal, tmp);
+    const fs::path file = render(*this, o.terminal, o.ext, work);
+    const fs::path ready = staged ? run->staged(final_path) : work / (std::string("ready") + o.ext);
     std::error_code ec;
-    if (!fs::exists(tmp) || fs::file_size(tmp) == 0) {
-      fs::remove(tmp, ec);
-      throw std::runtime_error("gnuplot did not write " + final_path.string());
+    fs::rename(file, ready, ec);
+    if (ec) throw std::runtime_error("cannot write figure '" + final_path.string() + "': " + ec.message());
+    done.emplace_back(ready, final_path);
+  }
+  for (const auto& [ready, final_path] : done) {
+    if (staged) {
+      run->add(final_path);
+      continue;
     }
-    fs::rename(tmp, final_path, ec);
-    if (ec) throw std::runtime_error("cannot rename " + tmp.string() + ": " + ec.message());
+    std::error_code ec;
+    fs::rename(ready, final_path, ec);
+    if (ec) throw std::runtime_error("cannot write figure '" + final_path.string() + "': " + ec.message());
   }
 }
 

@@ -1,6 +1,8 @@
 #pragma once
-// Output: tidy TSV files with a '#' header (program, parameters, git revision), written to a
-// temporary name and renamed when complete, so nothing is ever half-written.
+// Output: tidy TSV files with a '#' header (program, parameters, git revision). Every output of a run (tables
+// and figures) is written into one staging folder beside the target, <out>/.geomint-run-XXXXXX, and moved into
+// place together when the run succeeds (OutputRun): an interrupt, a full disk or an error leaves the previous
+// outputs as they were and no temporary behind.
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -16,11 +18,51 @@ using Params = std::vector<std::pair<std::string, std::string>>;
 std::string format_number(double v);  // shortest round-trip form, "nan" for NaN
 std::string format_list(const std::vector<double>& v);
 
-// Creates `dir` if needed and checks that a file can be written there; throws InputError otherwise.
+// Creates `dir` if needed, checks that a file can be written there (throws InputError otherwise) and starts
+// the run's OutputRun there (on MPI rank 0 only: the other ranks write nothing).
 std::filesystem::path prepare_output_dir(const std::string& dir);
 
-// Writes `final_path` via `final_path.tmp` + rename, so a crash or an interrupt never leaves a
-// half-written file under the final name.
+// The outputs of one run, all new or all old. Started by prepare_output_dir; guarded_main commits it when the
+// program's body returns 0 and discards it otherwise. While a run is active:
+// - files written through AtomicFile/TsvWriter/Figure::draw whose folder is the run's target go into the
+//   staging folder under their final file name, and are moved into the target by commit();
+// - SIGINT and SIGTERM remove the staging folder (and stop a gnuplot started for it) and exit with 128 + signal;
+//   during commit() they are blocked, so the commit loop is never cut short by them.
+// - an exit without commit (exception, exit(), nonzero status) removes the staging folder.
+class OutputRun {
+ public:
+  static OutputRun* current();  // the active run of this process, or nullptr
+  // Starts the run for target (an existing folder); replaces (discards) an earlier uncommitted run.
+  static OutputRun& start(const std::filesystem::path& target);
+
+  const std::filesystem::path& target() const { return target_; }
+  const std::filesystem::path& staging() const { return staging_; }
+  // Where the file that will end as final_path is written now: staging/<name> when final_path is in the
+  // target folder, final_path itself otherwise (then it is not part of the run).
+  std::filesystem::path staged(const std::filesystem::path& final_path) const;
+  bool owns(const std::filesystem::path& final_path) const;
+  // Records that staging/<name of final_path> is complete and goes to final_path at commit.
+  void add(const std::filesystem::path& final_path);
+  // Moves every complete file into place (SIGINT/SIGTERM blocked meanwhile) and removes the staging folder.
+  // Throws on the first rename that fails, after removing the staging folder.
+  void commit();
+  // Removes the staging folder and everything in it; the target is untouched.
+  void discard();
+  // The pid of a helper process (gnuplot) writing into the staging folder, stopped by the signal handler.
+  static void set_helper(long pid);
+
+ private:
+  OutputRun() = default;
+  std::filesystem::path target_, staging_;
+  std::vector<std::string> names_;  // complete files, in the order they were added
+};
+
+// Resolves a path a program reads back (a table it just wrote): the staged file while the run is active.
+std::filesystem::path output_path_for_reading(const std::filesystem::path& final_path);
+
+// Writes `final_path` completely or not at all: into the run's staging folder (see OutputRun) when final_path
+// is in the run's target, otherwise via `final_path.tmp` + rename. Every write is checked: a full disk or an
+// I/O error is an error (std::runtime_error naming the file), never a truncated file under the final name.
 class AtomicFile {
  public:
   explicit AtomicFile(std::filesystem::path final_path);
@@ -34,6 +76,7 @@ class AtomicFile {
  private:
   std::filesystem::path final_, tmp_;
   std::FILE* f_ = nullptr;
+  bool staged_ = false;
 };
 
 class TsvWriter {

@@ -1,0 +1,30 @@
+#pragma once
+// Infeasible work is refused before it starts: each check throws InputError (one line naming the estimate and
+// the limit; guarded_main exits 2). step_count (error.hpp) applies the step checks to every run of every
+// program; programs add what only they know (stored values, number of runs).
+#include <string>
+
+namespace geomint {
+
+// The largest number of steps of one run: far beyond any paper figure (1e6) and far below LONG_MAX.
+constexpr double max_steps_per_run = 1e11;
+// The time budget: steps of all runs of one program together (about an hour at ~50 ns per step, the cost of
+// the cheap schemes; the implicit ones cost more). --no-budget lifts it.
+constexpr double step_budget = 1e11;
+
+// --no-budget (Cli) switches the time budget off; the machine limits (memory, long) stay.
+void set_budget_enabled(bool enabled);
+bool budget_enabled();
+
+// Throws unless `steps` (a count, possibly huge or non-finite) fits a long and max_steps_per_run.
+void check_steps(double steps, const std::string& what);
+// Adds `steps` to the program's planned total and throws when it exceeds step_budget (unless --no-budget).
+void plan_steps(double steps, const std::string& what);
+// Throws when `bytes` to be stored exceed MemAvailable (/proc/meminfo; no check where it cannot be read).
+void check_memory(double bytes, const std::string& what);
+// Throws when a tolerance is below what a double can resolve (4 eps) or is not a positive finite number.
+void check_tolerance(double tol, const std::string& name);
+// Available memory in bytes (MemAvailable), or a negative number when unknown.
+double available_memory();
+
+}  // namespace geomint
