@@ -9,6 +9,7 @@
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
+#include "geomint/record.hpp"
 #include "geomint/oscillator_registry.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
@@ -50,13 +51,10 @@ int main(int argc, char** argv) {
         const OscillatorScene scene{a, q0, p0, T};
         std::vector<double> errs;
         for (double h : hs) {
-          double e;
-          try {
-            e = s->max_error(scene, h);
-          } catch (const NumericalFailure&) {
-            e = std::nan("");  // a failed run is a missing value, not a crash
-          }
-          errs.push_back(e);
+          // a failed run is a missing value, not a crash
+          errs.push_back(run_or_missing(
+              s->name + " alpha=" + show(a) + " h=" + show(h), [&] { return s->max_error(scene, h); },
+              [] { return std::nan(""); }));
         }
         const auto orders = observed_orders(hs, errs);
         for (size_t i = 0; i < hs.size(); ++i) {

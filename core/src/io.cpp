@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
+#include <mutex>
 #include <pthread.h>
 #include <stdexcept>
 #include <sys/syscall.h>
@@ -44,7 +45,9 @@ char g_staging[PATH_MAX];                 // the staging folder of the active ru
 volatile std::sig_atomic_t g_active = 0;  // a run is active
 volatile std::sig_atomic_t g_committing = 0;
 volatile std::sig_atomic_t g_pending = 0;  // a signal that arrived (on another thread) while committing
-volatile pid_t g_helper = 0;               // gnuplot writing into the staging folder
+// gnuplots writing into the staging folder (figures may be drawn from several threads at once)
+constexpr int max_helpers = 64;
+volatile pid_t g_helpers[max_helpers];
 
 // Removes a flat folder with system calls only (getdents64, unlinkat, rmdir): callable from a signal handler.
 void remove_flat_dir_signal_safe(const char* dir) {
@@ -74,10 +77,12 @@ extern "C" void geomint_on_signal(int sig) {
     g_pending = sig;
     return;
   }
-  const pid_t helper = g_helper;
-  if (helper > 0) {
-    ::kill(helper, SIGKILL);
-    ::waitpid(helper, nullptr, 0);
+  for (int i = 0; i < max_helpers; ++i) {
+    const pid_t helper = g_helpers[i];
+    if (helper > 0) {
+      ::kill(helper, SIGKILL);
+      ::waitpid(helper, nullptr, 0);
+    }
   }
   if (g_active) remove_flat_dir_signal_safe(g_staging);
   ::_exit(128 + sig);
@@ -168,6 +173,8 @@ fs::path OutputRun::staged(const fs::path& final_path) const {
 }
 
 void OutputRun::add(const fs::path& final_path) {
+  static std::mutex m;  // figures are drawn (and added) from several threads at once
+  std::lock_guard<std::mutex> lock(m);
   const std::string name = final_path.filename().string();
   for (const auto& n : names_)
     if (n == name) return;
@@ -178,7 +185,17 @@ void OutputRun::add(const fs::path& final_path) {
   if (stop && names_.size() == 1) ::raise(SIGSTOP);
 }
 
-void OutputRun::set_helper(long pid) { g_helper = static_cast<pid_t>(pid); }
+void OutputRun::set_helper(long pid) {
+  // pid > 0: a helper started; pid < 0: helper -pid ended.
+  static std::mutex m;
+  std::lock_guard<std::mutex> lock(m);
+  const pid_t find = pid > 0 ? 0 : static_cast<pid_t>(-pid), put = pid > 0 ? static_cast<pid_t>(pid) : 0;
+  for (int i = 0; i < max_helpers; ++i)
+    if (g_helpers[i] == find) {
+      g_helpers[i] = put;
+      return;
+    }
+}
 
 void OutputRun::discard() {
   if (g_run != this) return;

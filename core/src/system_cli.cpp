@@ -8,7 +8,7 @@
 namespace geomint {
 
 namespace {
-// --system X or --system=X in argv (the last one wins, as program_options would refuse a repeat later).
+// --system X or --system=X in argv (a repeat is refused by Cli::parse later).
 std::string find_system_arg(int argc, char** argv, const std::string& fallback) {
   std::string name = fallback;
   for (int i = 1; i < argc; ++i) {

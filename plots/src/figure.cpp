@@ -1,6 +1,7 @@
 #include "geomint/plots/figure.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -134,15 +135,16 @@ std::string one_line(const std::string& text) {
   while (std::getline(in, line)) {
     const auto b = line.find_first_not_of(" \t^");
     if (b == std::string::npos) continue;
-    if (line.rfind("gnuplot>", 0) == 0) continue;  // the echo of the command
-    out += (out.empty() ? "" : "; ") + line.substr(b);
+    if (line.rfind("gnuplot>", 0) == 0) line = "in '" + line.substr(line.find_first_not_of(" ", 8)) + "'";  // the command
+    else line = line.substr(b);
+    out += (out.empty() ? "" : "; ") + line;
   }
   return out.empty() ? "no message" : out;
 }
 
 // Runs gnuplot with `cwd` as its working directory (no shell: posix_spawnp), the script on its standard input,
 // its standard error captured in a program-named file there. Throws with gnuplot's message unless it exits 0.
-void run_gnuplot(const fs::path& cwd, const std::string& script) {
+void run_gnuplot(const fs::path& cwd, const std::string& script, const std::string& errname) {
   static const bool pipe_ignored = [] {
     std::signal(SIGPIPE, SIG_IGN);  // a gnuplot that died is reported by its status, not by killing us
     return true;
@@ -155,7 +157,7 @@ void run_gnuplot(const fs::path& cwd, const std::string& script) {
   posix_spawn_file_actions_adddup2(&fa, fds[0], 0);
   posix_spawn_file_actions_addchdir_np(&fa, cwd.c_str());
   posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 2, "gnuplot-stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_addopen(&fa, 2, errname.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
   sigset_t def;
@@ -188,16 +190,16 @@ void run_gnuplot(const fs::path& cwd, const std::string& script) {
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
-  OutputRun::set_helper(0);
+  OutputRun::set_helper(-static_cast<long>(pid));
   std::string err;
   {
-    std::ifstream in(cwd / "gnuplot-stderr.txt");
+    std::ifstream in(cwd / errname);
     std::stringstream ss;
     ss << in.rdbuf();
     err = ss.str();
   }
   std::error_code ec;
-  fs::remove(cwd / "gnuplot-stderr.txt", ec);
+  fs::remove(cwd / errname, ec);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw std::runtime_error("gnuplot failed (" +
                              (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
@@ -286,7 +288,7 @@ std::string render_script(const Figure& fig, const std::string& terminal, const 
     const bool had_series = !p.series.empty();
     if (!any && had_series) {
       // Every point failed or cannot be shown: say so in an empty panel (gnuplot refuses to plot nothing).
-      cmd = "unset logscale\nset xrange [0:1]\nset yrange [0:1]\nunset xtics\nunset ytics\nunset colorbox\n"
+      cmd = "unset logscale\nunset key\nset xrange [0:1]\nset yrange [0:1]\nunset xtics\nunset ytics\nunset colorbox\n"
             "set label 'no finite data: every run in this panel failed or gave values this axis cannot show' "
             "at graph 0.5, 0.5 center\nplot -1 notitle";
     } else {
@@ -304,9 +306,10 @@ std::string render_script(const Figure& fig, const std::string& terminal, const 
 }
 
 // Draws into `dir` (a folder of ours) under program-chosen names and returns the complete file's path.
-fs::path render(const Figure& fig, const std::string& terminal, const std::string& ext, const fs::path& dir) {
-  const std::string name = "gnuplot-output" + ext;
-  run_gnuplot(dir, render_script(fig, terminal, name));
+fs::path render(const Figure& fig, const std::string& terminal, const std::string& ext, const fs::path& dir,
+                const std::string& prefix) {
+  const std::string name = prefix + "output" + ext;
+  run_gnuplot(dir, render_script(fig, terminal, name), prefix + "stderr.txt");
   if (!complete(dir / name, ext))
     throw std::runtime_error("gnuplot could not finish the " + ext.substr(1) +
                              " file (disk full or write error?): the previous figure is unchanged");
@@ -340,20 +343,24 @@ void Figure::draw(const std::filesystem::path& stem) const {
       throw std::runtime_error("cannot write in '" + parent.string() + "': " + std::strerror(errno));
     work = tmpl;
   }
+  // Figures may be drawn from several threads at once: each draw has names of its own.
+  static std::atomic<unsigned> draws{0};
+  const std::string prefix = "gnuplot-" + std::to_string(draws++) + "-";
   struct Cleanup {
     fs::path dir;
+    std::string prefix;
     bool remove_dir;
     ~Cleanup() {
       std::error_code ec;
-      for (const char* n : {"gnuplot-output.png", "gnuplot-output.pdf", "gnuplot-stderr.txt"}) fs::remove(dir / n, ec);
+      for (const char* n : {"output.png", "output.pdf", "stderr.txt"}) fs::remove(dir / (prefix + n), ec);
       if (remove_dir) fs::remove_all(dir, ec);
     }
-  } cleanup{work, !staged};
+  } cleanup{work, prefix, !staged};
   std::vector<std::pair<fs::path, fs::path>> done;  // rendered file -> final path
   for (const auto& o : outs) {
     fs::path final_path = stem;
     final_path += o.ext;
-    const fs::path file = render(*this, o.terminal, o.ext, work);
+    const fs::path file = render(*this, o.terminal, o.ext, work, prefix);
     const fs::path ready = staged ? run->staged(final_path) : work / (std::string("ready") + o.ext);
     std::error_code ec;
     fs::rename(file, ready, ec);

@@ -48,7 +48,8 @@ class OutputRun {
   void commit();
   // Removes the staging folder and everything in it; the target is untouched.
   void discard();
-  // The pid of a helper process (gnuplot) writing into the staging folder, stopped by the signal handler.
+  // A helper process (gnuplot) writing into the staging folder, stopped by the signal handler: pid > 0 when it
+  // starts, -pid when it has ended (several may run at once).
   static void set_helper(long pid);
 
  private:

@@ -1,7 +1,9 @@
 #pragma once
-// Figures in the house style, drawn with gnuplot-iostream from data read back from a saved TSV
-// (so a figure always shows what the file holds). Each figure is written as PNG and PDF, each via a
-// temporary name and a rename.
+// Figures in the house style, drawn with gnuplot from data read back from a saved TSV (so a figure always shows
+// what the file holds). Each figure is written as PNG and PDF. gnuplot is started without a shell, in a folder of
+// ours (the run's staging folder, see OutputRun in geomint/io.hpp), and sees only names we chose: the output path
+// never reaches it; titles go as single-quoted strings (no backquote or macro substitution). Its exit status and
+// error output are checked, and a file it could not finish (full disk) is an error: the previous figure stays.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -44,7 +46,8 @@ struct Figure {
   int rows = 1, cols = 1;
   std::vector<Panel> panels;
   double width_in = 7, height_in = 4.5;
-  // Writes stem.png and stem.pdf. Throws on gnuplot failure.
+  // Writes stem.png and stem.pdf. Throws (with gnuplot's message) when gnuplot fails or cannot finish a file.
+  // A panel with no point it can show (all non-finite, or none positive on a log axis) says so in a label.
   void draw(const std::filesystem::path& stem) const;
 };
 
