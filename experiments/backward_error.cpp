@@ -45,7 +45,9 @@ int main(int argc, char** argv) {
         "tol", po::value(&tol)->default_value(tol), "Odeint tolerance for the modified equations");
     if (!cli.parse(argc, argv)) return 0;
     const auto hs = halving_sequence(h_max, h_min);
-    for (double h : hs) step_count(h, T);
+    // the discrete runs, their modified solutions and the all-orders runs: about 5 runs per (scheme, alpha, h)
+    for (double h : hs) plan_steps(5.0 * 2 * static_cast<double>(alphas.size()) * static_cast<double>(step_count(h, T)),
+                                   "the sweep (schemes x alpha x starts x T/h)");
     for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
     require(std::isfinite(tol) && tol > 0 && tol <= 1e-6, "tol must be in (0, 1e-6]");
     check_tolerance(tol, "tol");

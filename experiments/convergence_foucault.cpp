@@ -60,7 +60,9 @@ int main(int argc, char** argv) {
     const auto hs = halving_sequence(h_max, h_min);
     require(!horizons.empty() && !alphas.empty(), "give at least one horizon and one alpha");
     for (double T : horizons)
-      for (double h : hs) step_count(h, T);
+      for (double h : hs)
+        plan_steps(static_cast<double>(names.size() * alphas.size()) * static_cast<double>(step_count(h, T)),
+                   "the sweep (schemes x alpha x T/h)");
     for (double a : alphas) {
       FoucaultScene sc = base;
       sc.alpha = a;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -32,7 +33,9 @@ int main(int argc, char** argv) {
     if (!cli.parse(argc, argv)) return 0;
 
     const auto hs = halving_sequence(h_max, h_min);
-    for (double h : hs) step_count(h, T);
+    for (double h : hs)
+      plan_steps(static_cast<double>(names.size() * alphas.size()) * static_cast<double>(step_count(h, T)),
+                 "the sweep (schemes x alpha x T/h)");
     for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
     std::vector<const OscillatorSchemeInfo*> schemes;
     for (const auto& n : names) schemes.push_back(&find_oscillator_scheme(n));

@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -80,7 +81,9 @@ int main(int argc, char** argv) {
       return hs;
     };
     for (std::size_t ki = 0; ki < orders.size(); ++ki)
-      for (double h : steps_of(ki)) step_count(h, T);
+      for (double h : steps_of(ki))
+        plan_steps(static_cast<double>(systems.size() * schemes.size()) * static_cast<double>(step_count(h, T)),
+                   "the sweep (systems x schemes x T/h per order)");
     for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
     for (const auto& s : systems) {
       const auto& info = find_system(s);

@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -60,7 +61,7 @@ int main(int argc, char** argv) {
     require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
     std::vector<double> hs;
     for (int i = 0; i <= halvings; ++i) hs.push_back(h_max / std::pow(2.0, i));
-    for (double h : hs) step_count(h, T);
+    for (double h : hs) plan_steps(static_cast<double>(step_count(h, T)), "the sweep (T/h per run)");
     for (int K : orders) require(K >= 0 && K <= 4, "orders must be in [0, 4]");
     for (const auto& s : systems) {
       const auto& info = find_system(s);
