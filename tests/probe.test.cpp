@@ -188,6 +188,21 @@ TEST_CASE("probe: stray positionals and repeated options are refused", "[probe]"
   }
 }
 
+TEST_CASE("probe: an output path that cannot be a folder is refused on one line, even with a newline in it", "[probe]") {
+  for (const auto& p : programs()) {
+    const auto base = fresh_dir("probe-notdir");
+    const fs::path file = base / "a file\n$(touch X)";
+    std::ofstream(file) << "x";
+    const auto o = spawn(p, {"--out", (file / "sub").string()}, base);
+    INFO(p << " -> exit " << o.exit_code << ": " << o.err);
+    CHECK(o.exit_code == 2);
+    CHECK(o.lines() == 1);
+    CHECK(o.err.find("output folder") != std::string::npos);
+    CHECK(!fs::exists(base / "X"));
+    fs::remove_all(base);
+  }
+}
+
 TEST_CASE("probe: step counts beyond a long or the per-run limit are refused before any work", "[probe]") {
   for (const auto& c : table)
     if (*c.overflow) check_refused(c.program, split(c.overflow), "steps");

@@ -69,6 +69,15 @@ void report_missing(const std::string& context, const std::string& what) {
   std::fprintf(stderr, "%s\n", line.c_str());
 }
 
+namespace {
+// A message on one line whatever it quotes (a path may hold a newline).
+std::string one_line(const std::string& s) {
+  std::string out;
+  for (char c : s) out += c == '\n' ? std::string("\\n") : c == '\r' ? std::string("\\r") : std::string(1, c);
+  return out;
+}
+}  // namespace
+
 int guarded_main(const std::string& program, const std::function<int()>& body) {
   g_program = program;
   // The run's outputs (OutputRun, started by prepare_output_dir) move into place only when the body succeeds;
@@ -87,15 +96,15 @@ int guarded_main(const std::string& program, const std::function<int()>& body) {
     return status;
   } catch (const InputError& e) {
     discard();
-    std::cerr << program << ": error: " << e.what() << "\n";
+    std::cerr << program << ": error: " << one_line(e.what()) << "\n";
     return 2;
   } catch (const NumericalFailure& e) {
     discard();
-    std::cerr << program << ": " << e.what() << "\n";
+    std::cerr << program << ": " << one_line(e.what()) << "\n";
     return 3;
   } catch (const std::exception& e) {
     discard();
-    std::cerr << program << ": error: " << e.what() << "\n";
+    std::cerr << program << ": error: " << one_line(e.what()) << "\n";
     return 1;
   }
 }

@@ -143,6 +143,7 @@ OutputRun& OutputRun::start(const fs::path& target) {
     g_run->discard();
   }
   install_handlers();
+  static OutputRun run;  // constructed before the exit hook is registered, so it outlives the hook
   static bool registered = false;
   if (!registered) {
     registered = true;
@@ -152,7 +153,6 @@ OutputRun& OutputRun::start(const fs::path& target) {
   require(tmpl.size() < sizeof g_staging, "output folder path is too long: '" + target.string() + "'");
   if (::mkdtemp(tmpl.data()) == nullptr)
     throw InputError("output folder '" + target.string() + "' is not writable: " + std::strerror(errno));
-  static OutputRun run;
   run = OutputRun();
   run.target_ = target;
   run.staging_ = tmpl;
@@ -275,7 +275,7 @@ AtomicFile::AtomicFile(fs::path final_path) : final_(std::move(final_path)) {
     tmp_ = final_;
     tmp_ += ".tmp";
   }
-  f_ = std::fopen(tmp_.c_str(), "w");
+  f_ = std::fopen(tmp_.c_str(), "we");  // close-on-exec: gnuplot does not inherit our open tables
   require(f_ != nullptr, "cannot write '" + tmp_.string() + "': " + std::strerror(errno));
 }
 
