@@ -155,3 +155,20 @@ TEST_CASE("run_or_missing turns a numerical failure into a missing value", "[out
   CHECK(std::isnan(v));
   CHECK_THROWS_AS(run_or_missing("x", []() -> double { throw InputError("bad"); }, [] { return 0.0; }), InputError);
 }
+
+TEST_CASE("a commit that cannot move every file leaves the old outputs and no temporary", "[outputs]") {
+  const auto dir = fresh_dir("run-failed-commit");
+  std::ofstream(dir / "a.tsv") << "old a\n";
+  fs::create_directories(dir / "b.tsv" / "in-the-way");  // a folder where the run's b.tsv must go
+  OutputRun& run = OutputRun::start(dir);
+  for (const char* n : {"a.tsv", "b.tsv"}) {
+    AtomicFile f(dir / n);
+    std::fputs("new\n", f.handle());
+    f.commit();
+  }
+  CHECK_THROWS_WITH(run.commit(), Catch::Contains("previous outputs are unchanged"));
+  CHECK(slurp(dir / "a.tsv") == "old a\n");
+  CHECK(fs::is_directory(dir / "b.tsv" / "in-the-way"));
+  CHECK(entries(dir) == 2);  // a.tsv and the folder: no staging folder
+  CHECK(OutputRun::current() == nullptr);
+}
