@@ -21,9 +21,16 @@ bool Cli::parse(int argc, char** argv) {
   po::variables_map vm;
   try {
     // No positional arguments: a stray word (a second value after a one-value option, a typo) is an error,
-    // never silently dropped.
-    const po::positional_options_description none;
-    const po::parsed_options parsed = po::command_line_parser(argc, argv).options(options).positional(none).run();
+    // never silently dropped. Positional words are collected under a hidden name to name the first one.
+    po::options_description all;
+    all.add(options).add_options()("geomint-positional", po::value<std::vector<std::string>>());
+    po::positional_options_description positional;
+    positional.add("geomint-positional", -1);
+    const po::parsed_options parsed = po::command_line_parser(argc, argv).options(all).positional(positional).run();
+    for (const auto& o : parsed.options)
+      if (o.string_key == "geomint-positional")
+        throw InputError("unexpected argument '" + (o.original_tokens.empty() ? std::string() : o.original_tokens.front()) +
+                         "': every value belongs to an option, and one-value options take one (see --help)");
     // An option given twice is an error, for every option (one value or several): "--alpha 0.1 --alpha 1"
     // is written "--alpha 0.1 1".
     std::set<std::string> seen;
@@ -38,18 +45,6 @@ bool Cli::parse(int argc, char** argv) {
     }
     po::notify(vm);
     set_budget_enabled(vm.count("no-budget") == 0);
-  } catch (const po::too_many_positional_options_error&) {
-    std::string stray;
-    for (int i = 1; i < argc && stray.empty(); ++i) {
-      // the first word that is neither an option nor the value of the option before it
-      const std::string a = argv[i];
-      if (a.rfind("-", 0) == 0) continue;
-      const std::string prev = i > 1 ? argv[i - 1] : "";
-      const bool is_value = prev.rfind("--", 0) == 0 && prev.find('=') == std::string::npos;
-      if (!is_value) stray = a;
-    }
-    throw InputError("unexpected argument" + (stray.empty() ? std::string() : " '" + stray + "'") +
-                     ": every value belongs to an option, and one-value options take one (see --help)");
   } catch (const po::error& e) {
     throw InputError(std::string(e.what()) + " (see --help)");
   }
