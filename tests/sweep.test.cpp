@@ -156,6 +156,11 @@ TEST_CASE("sweep programs under mpiexec -n 2 write byte-identical files", "[swee
     INFO(c.program << ": " << slurp(dir / "mpi.txt"));
     REQUIRE(status == 0);
     CHECK(compare_tsvs(one, two) == c.files);
+    // only rank 0 writes: one run, committed, no staging folder of another rank left behind
+    for (const auto& e : std::filesystem::directory_iterator(two)) {
+      INFO(e.path());
+      CHECK(e.path().filename().string().rfind(".geomint-", 0) != 0);
+    }
   }
   std::filesystem::remove_all(dir);
 #endif
