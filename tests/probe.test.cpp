@@ -353,3 +353,8 @@ TEST_CASE("probe: degenerate data (a zero state) gives figures, not gnuplot erro
     fs::remove_all(base);
   }
 }
+
+TEST_CASE("probe: a run whose stored trajectory cannot fit in memory is refused before it starts", "[probe]") {
+  // 1e10 steps, the reference at h/10 stored as (t, q, p): 2.4 TB, beyond MemAvailable (and within the step limit)
+  check_refused("fig1_oscillator", {"--h", "1e-3", "--T", "1e7", "--ref-factor", "10"}, "MB of memory available");
+}
