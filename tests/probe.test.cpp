@@ -249,6 +249,9 @@ TEST_CASE("probe: SIGINT and SIGTERM mid-run leave the old outputs and no tempor
       INFO(c.program << " signal " << sig << " -> exit " << o.exit_code << ": " << o.err);
       CHECK(o.stopped);
       CHECK(o.exit_code == 128 + sig);
+      // one line says so (after any progress lines the program printed before)
+      CHECK(o.last_line().find("interrupted by signal " + std::to_string(sig)) != std::string::npos);
+      CHECK(o.err.find("interrupted") == o.err.rfind("interrupted"));
       CHECK(temporaries(out).empty());
       CHECK(snapshot(out) == before);
       fs::remove_all(base);

@@ -85,6 +85,18 @@ extern "C" void geomint_on_signal(int sig) {
     }
   }
   if (g_active) remove_flat_dir_signal_safe(g_staging);
+  // One line with write(2) only: "<program>: interrupted by signal N; the previous outputs are unchanged".
+  char line[256];
+  std::size_t n = 0;
+  auto put = [&](const char* t) {
+    while (*t && n + 1 < sizeof line) line[n++] = *t++;
+  };
+  put(program_invocation_short_name);
+  put(": interrupted by signal ");
+  char num[4] = {static_cast<char>('0' + sig / 10 % 10), static_cast<char>('0' + sig % 10), 0, 0};
+  put(sig >= 10 ? num : num + 1);
+  put("; the previous outputs are unchanged\n");
+  [[maybe_unused]] const ssize_t w = ::write(2, line, n);
   ::_exit(128 + sig);
 }
 
