@@ -21,7 +21,7 @@ namespace {
 constexpr double kTwoPi = 6.28318530717958647692;
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
-// alpha int_a^b p(t)^2 dt on the closed-form solution, by GSL's adaptive Gauss–Kronrod (qag, 61 points).
+// alpha int_a^b p(t)^2 dt on the closed-form solution, by GSL's adaptive Gauss–Kronrod (qag, 61 points, relative 1e-12).
 double exact_work(double alpha, double q0, double p0, double a, double b) {
   struct Ctx {
     double alpha, q0, p0;
@@ -35,7 +35,7 @@ double exact_work(double alpha, double q0, double p0, double a, double b) {
   f.params = &ctx;
   gsl_integration_workspace* w = gsl_integration_workspace_alloc(200);
   double r = 0, err = 0;
-  gsl_integration_qag(&f, a, b, 0, 1e-14, 200, GSL_INTEG_GAUSS61, w, &r, &err);
+  gsl_integration_qag(&f, a, b, 0, 1e-12, 200, GSL_INTEG_GAUSS61, w, &r, &err);
   gsl_integration_workspace_free(w);
   return r;
 }
@@ -96,7 +96,7 @@ TEST_CASE("long-horizon measures recover the exact decay rate, frequency, phase 
     CHECK(std::abs(r.frequency - probe.omega()) / probe.omega() < 1e-13);
     // the phase: omega T = 1257 rad, held to round-off of cos/sin arguments of that size (~1e-13)
     CHECK(std::abs(r.phase_end) < 1e-10);
-    // the balance: E_k - E_{k+1} against a 1e-14-accurate quadrature
+    // the balance: E_k - E_{k+1} against a 1e-12-accurate quadrature
     CHECK(r.balance < 1e-11);
   }
 }
@@ -126,15 +126,18 @@ TEST_CASE("long-horizon measures on the schemes agree with their one-step spectr
 }
 
 TEST_CASE("decay-rate and frequency errors fall with the schemes' orders", "[long_horizon][oscillator][order]") {
-  // Derived from det M: la -ln(det)/h - alpha = ln(1 + h alpha)/h - alpha = -alpha^2 h/2 + O(h^2); contact
-  // -ln(1 - h alpha)/h - alpha = alpha^2 h/2 + O(h^2); the symmetric schemes (det = (1 - h alpha/2)/(1 + h alpha/2)
-  // for contact-sym and leapfrog, (1 - h alpha/2 + h^2/4)/(1 + h alpha/2 + h^2/4) for la-midpoint) are even in h:
-  // O(h^2). The frequency: the symmetric schemes O(h^2); la and contact O(alpha h) (from the h^3 alpha term of
-  // the trace), which dominates their h^2/24 term for h < 6 alpha: with alpha = 0.1 and h <= 0.05 the fitted
-  // slope is within 0.15 of 1.
-  const double alpha = 0.1, periods = 500;
+  // Derived from the one-step matrix M (eigenvalues sqrt(det M) e^{+-i phi}):
+  // decay: la -ln(det)/h - alpha = ln(1 + h alpha)/h - alpha = -alpha^2 h/2 + O(h^2); contact -ln(1 - h alpha)/h - alpha
+  //   = alpha^2 h/2 + O(h^2); the symmetric schemes (det = (1 - h alpha/2)/(1 + h alpha/2) for contact-sym and
+  //   leapfrog, (1 - h alpha/2 + h^2/4)/(1 + h alpha/2 + h^2/4) for la-midpoint) are even in h: O(h^2).
+  // frequency: la has cos phi = cosh(ln(1 + h alpha)/2) - h^2 sqrt(c)/2, c = 1/(1 + h alpha), whose h^3 alpha/4 term
+  //   makes the relative frequency error alpha h/4 + O(h^2): first order, dominant for h < 6 alpha (alpha = 0.1 here).
+  //   contact has cos phi = (1 - h^2/2) cosh(x), x = -ln(1 - h alpha)/2, with no h^3 alpha term: its first-order
+  //   term is alpha^3 h/8, so it is second order in practice; at alpha = 0.01 that term is < 1e-2 of the h^2 one
+  //   for the h used here. The symmetric schemes are second order.
+  const double periods = 500;
   const std::vector<double> ms{128, 256, 512, 1024};
-  auto slopes = [&](auto scheme) {
+  auto slopes = [&](auto scheme, double alpha) {
     using S = decltype(scheme);
     std::vector<double> hs, decay, freq;
     const double omega = std::sqrt(1 - alpha * alpha / 4);
@@ -146,15 +149,15 @@ TEST_CASE("decay-rate and frequency errors fall with the schemes' orders", "[lon
     }
     return std::pair<double, double>{fit_order(hs, decay).slope, fit_order(hs, freq).slope};
   };
-  const auto [la_d, la_f] = slopes(schemes::La{});
-  const auto [co_d, co_f] = slopes(schemes::Contact{});
-  const auto [lm_d, lm_f] = slopes(schemes::LaMidpoint{});
-  const auto [cs_d, cs_f] = slopes(schemes::ContactSymmetric{});
-  const auto [lf_d, lf_f] = slopes(schemes::Leapfrog{});
+  const auto [la_d, la_f] = slopes(schemes::La{}, 0.1);
+  const auto [co_d, co_f] = slopes(schemes::Contact{}, 0.01);
+  const auto [lm_d, lm_f] = slopes(schemes::LaMidpoint{}, 0.1);
+  const auto [cs_d, cs_f] = slopes(schemes::ContactSymmetric{}, 0.1);
+  const auto [lf_d, lf_f] = slopes(schemes::Leapfrog{}, 0.1);
   CHECK(la_d == Approx(1).margin(0.1));
   CHECK(co_d == Approx(1).margin(0.1));
   CHECK(la_f == Approx(1).margin(0.15));
-  CHECK(co_f == Approx(1).margin(0.15));
+  CHECK(co_f == Approx(2).margin(0.1));
   CHECK(lm_d == Approx(2).margin(0.1));
   CHECK(cs_d == Approx(2).margin(0.1));
   CHECK(lf_d == Approx(2).margin(0.1));
