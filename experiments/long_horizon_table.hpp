@@ -86,7 +86,7 @@ inline void summarise(const Table& T, const std::vector<Measure>& measures, cons
           std::printf(" %s |", ms_cell(t).c_str());
         }
         const auto [bg, ba] = T.best_geometric_adaptive(g, H, M);
-        const double ratio = bg / ba;
+        const double ratio = std::isfinite(bg) && std::isfinite(ba) ? bg / ba : std::nan("");
         sum.row("geometric_over_adaptive", M.column, M.target, g, H, "-", std::isfinite(ratio) ? ratio : std::nan(""));
         if (std::isfinite(ratio)) {
           std::printf(" %.3g |\n", ratio);
@@ -143,8 +143,8 @@ inline void draw(const Table& T, const std::vector<Measure>& measures, const std
     for (const auto& M : measures) {
       plots::Panel p;
       p.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
-                "set ylabel '" + M.column + "'\nset key bottom left font ',7'\nset title '" + M.label + ", " + T.group +
-                " = " + g + "' font ',9'\n";
+                "set ylabel '" + M.column + "' noenhanced\nset key bottom left font ',7'\nset title '" + M.label + ", " + T.group +
+                " = " + g + "' font ',9' noenhanced\n";
       for (const auto& m : methods) {
         auto keep = [&](std::size_t i) { return T.in(i, m, g, horizon_value); };
         const auto xs = T.tt.numbers("seconds_median", keep), ys = T.d.numbers(M.column, keep);
