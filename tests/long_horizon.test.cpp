@@ -227,10 +227,11 @@ TEST_CASE("nonholonomic schemes keep their discrete constraint at round-off over
 TEST_CASE("the multiplier ODE's constraint drift is measured: it grows far above round-off over 10 hours",
           "[long_horizon][foucault][constraint]") {
   // Odeint's dopri5 (foucault_reference, abs = rel = 1e-10, as every program uses it) on the Lagrange–d'Alembert
-  // ODE keeps (13) only through its derivative: Phi is a neutral first integral there, so each step's local error
-  // moves it and nothing pulls it back, while the scale it is measured against, |q||v| + s|q|^2, decays as
-  // e^{-alpha t} (e^{-36} in 10 h at alpha = 1e-3; the absolute tolerance 1e-10 m is then 1 % of the amplitude
-  // 0.67 e^{-18} m). The relative residual r(t) = |Phi(q, v)| / (|q||v| + s|q|^2), measured here: 2.4e-6 at most in
+  // ODE keeps (13) only through its derivative: dPhi/dt = 0 whatever Phi is, so each step's local error moves it
+  // and nothing pulls it back, while the scale it is measured against, |q||v| + s|q|^2, decays as e^{-alpha t}.
+  // Relative to the solution an error in Phi is amplified by e^{alpha t}: e^{36} ~ 4e15 ~ 1/eps in 10 h at
+  // alpha = 1e-3, so even round-off alone would take the run off (13) (and the absolute tolerance 1e-10 m is
+  // then 1 % of the amplitude 0.67 e^{-18} m). The relative residual r(t) = |Phi(q, v)| / (|q||v| + s|q|^2), measured here: 2.4e-6 at most in
   // the first hour, 1 in the tenth (the motion has left the constraint entirely). Round-off alone gives a few eps
   // (the schemes: < 4 eps, test above). Asserted with margins of about 100 on both: the first hour above 1e4 eps,
   // and the tenth hour above 100 times the first (growth, not a constant offset).
