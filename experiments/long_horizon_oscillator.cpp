@@ -5,13 +5,14 @@
 //   freq    |omega_fit - omega| / omega, omega_fit the least-squares slope of the unwrapped phase
 //   phase   |theta(T) - theta(0) - omega T| (rad): the phase error accumulated over the horizon
 //   balance max over windows of |E_k - E_{k+1} - W_k| / E_k: energy lost against the work of the damping force
+//           (windows of a fixed length, --window-periods, so that the balance means the same at every horizon)
 // Methods: the geometric schemes (la, contact: first order; la-midpoint, contact-sym, leapfrog: second order)
 // and Odeint's rk4 over steps per period; Odeint dopri5 and Bulirsch–Stoer and GSL rk8pd over tolerance.
 // A run that fails is a missing value (nan) with a message naming method, parameters and step.
 //   long_horizon_oscillator [--alpha 0.01 0.1] [--periods 100 1000] [--m 16 32 64 128 256] [--tol 1e-5 1e-7 1e-9 1e-11]
-//                [--windows 200] [--reps 3] [--out out]
+//                [--window-periods 5] [--reps 3] [--out out]
 // The study in README (about 10 minutes on one core):
-//   long_horizon_oscillator --periods 1000 10000 100000 --m 16 32 64 128 256 512 --tol 1e-4 1e-6 1e-8 1e-10 1e-12 --windows 4000
+//   long_horizon_oscillator --periods 1000 10000 100000 --m 16 32 64 128 256 512 --tol 1e-4 1e-6 1e-8 1e-10 1e-12
 // Writes out/long_horizon_oscillator.tsv (errors: the same bits for the same command),
 // out/long_horizon_oscillator_timings.tsv, out/long_horizon_oscillator_summary.tsv (times to reach each target,
 // crossovers and fitted slopes: derived from timings) and the figure out/long_horizon_oscillator.{png,pdf}.
@@ -96,7 +97,7 @@ int main(int argc, char** argv) {
   return guarded_main("long_horizon_oscillator", [&] {
     std::vector<double> alphas{0.01, 0.1}, periods{100, 1000}, ms{16, 32, 64, 128, 256}, tols{1e-5, 1e-7, 1e-9, 1e-11};
     double q0 = -0.25, p0 = 0.75;
-    long windows = 200;
+    double window_periods = 5;
     int reps = 3;
     Cli cli("long_horizon_oscillator", "long-horizon structural error against CPU time: damped oscillator");
     cli.options.add_options()("alpha", po::value(&alphas)->multitoken(), "damping values (default 0.01 0.1)")(
@@ -104,7 +105,8 @@ int main(int argc, char** argv) {
         "m", po::value(&ms)->multitoken(), "steps per period of the fixed-step methods, h = 2 pi / m (default 16 .. 256)")(
         "tol", po::value(&tols)->multitoken(), "tolerances (abs = rel) of the adaptive methods (default 1e-5 .. 1e-11)")(
         "q0", po::value(&q0)->default_value(q0), "initial position")("p0", po::value(&p0)->default_value(p0), "initial momentum")(
-        "windows", po::value(&windows)->default_value(windows), "windows of the horizon (samples of the fits, balance)")(
+        "window-periods", po::value(&window_periods)->default_value(window_periods),
+        "length of the windows of the balance and of the renormalisation, in periods (must divide every horizon)")(
         "reps", po::value(&reps)->default_value(reps), "timed repetitions");
     if (!cli.parse(argc, argv)) return 0;
     require(!alphas.empty() && !periods.empty() && !ms.empty() && !tols.empty(), "give at least one value per list");
@@ -116,13 +118,16 @@ int main(int argc, char** argv) {
     require_finite(q0, "q0");
     require_finite(p0, "p0");
     require(q0 != 0 || p0 != 0, "q0 and p0 are both zero: nothing to measure");
-    require(windows >= 3 && windows <= 1000000, "windows must be in [3, 1e6]");
+    require(std::isfinite(window_periods) && window_periods >= 1 && window_periods == std::round(window_periods),
+            "window-periods must be a whole number >= 1, got " + show(window_periods));
+    for (double P : periods)
+      require(std::fmod(P, window_periods) == 0 && P / window_periods >= 3,
+              "every horizon must be at least 3 windows and a multiple of --window-periods");
     require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
     for (double a : alphas)
-      for (double P : periods)
-        require(a * kTwoPi * P / static_cast<double>(windows) <= 20,
-                "the energy must decay by at most e^-20 per window (alpha T / windows <= 20), so that the adaptive "
-                "methods' tolerance stays relative to the amplitude: raise --windows");
+      require(a * kTwoPi * window_periods <= 20,
+                "the energy must decay by at most e^-20 per window (alpha 2 pi window-periods <= 20), so that the adaptive "
+                "methods' tolerance stays relative to the amplitude: lower --window-periods");
     std::sort(periods.begin(), periods.end());
     for (double P : periods)
       for (double m : ms) require(P * m <= 1e10, "more than 1e10 steps in one run (periods x m)");
@@ -137,13 +142,14 @@ int main(int argc, char** argv) {
         for (double m : ms) {
           const double h = kTwoPi / m;
           const long N = std::lround(P * m);
-          const long W = std::min(windows, N);
+          const long W = std::lround(P / window_periods);
           for (const auto& name : geo)
             pts.push_back(measure(name, "geometric", "m", a, P, m, geometric(name, a, q0, p0, h, N, W), reps));
           pts.push_back(measure("odeint-rk4", "rk", "m", a, P, m, [=](bool mm) {
             return mm ? run_rk4_structure<true>(a, q0, p0, h, N, W) : run_rk4_structure<false>(a, q0, p0, h, N, W);
           }, reps));
         }
+        const long windows = std::lround(P / window_periods);
         for (double tol : tols) {
           auto dopri = [tol] { return odeint::make_controlled(tol, tol, odeint::runge_kutta_dopri5<OscWorkState>()); };
           auto bs = [tol] { return odeint::bulirsch_stoer<OscWorkState>(tol, tol); };
@@ -165,7 +171,7 @@ int main(int argc, char** argv) {
     const Params params{{"problem", "damped oscillator q'' = -q - alpha q'"}, {"alpha", format_list(alphas)},
                         {"periods", format_list(periods)}, {"q0", format_number(q0)}, {"p0", format_number(p0)},
                         {"m", format_list(ms) + " (steps per period, h = 2 pi/m)"}, {"tol", format_list(tols) + " (abs = rel)"},
-                        {"windows", std::to_string(windows)}, {"reps", std::to_string(reps)},
+                        {"window_periods", format_number(window_periods)}, {"reps", std::to_string(reps)},
                         {"measures", "decay_err = |alpha_fit - alpha|/alpha (log Q, Q = q^2 + alpha q p + p^2); freq_err = "
                                      "|omega_fit - omega|/omega; phase_err = |theta(T) - theta(0) - omega T| rad; balance_err = "
                                      "max_k |E_k - E_k+1 - W_k|/E_k (W: trapezoid on the steps for geometric schemes, "
