@@ -21,6 +21,9 @@ integrate --system knife-edge --scheme la
 integrate --system knife-edge --scheme contact-trapezoid
 work_precision --system pendulum
 stability_oscillator --system coupled-oscillators --n 60
+long_horizon_oscillator
+long_horizon_foucault
+long_horizon_forced
 endef
 export FIGURE_COMMANDS
 

@@ -111,26 +111,8 @@ std::vector<std::array<double, 4>> foucault_reference(const FoucaultScene& scene
   const FoucaultParams<double> p(scene);
   const Vec2<double> q0(scene.x0, scene.y0);
   const Vec2<double> v0 = consistent_velocity(p, q0, Vec2<double>(scene.vx0, scene.vy0));
-  const double w2 = p.w2, s = p.s, a = p.alpha;
   using State = std::array<double, 4>;
-  return odeint_dense<4>(
-      [=](const State& u, State& du, double) {
-        const double x = u[0], y = u[1], vx = u[2], vy = u[3];
-        const double r2 = x * x + y * y;
-        double fx, fy;  // constraint force per unit mass, lambda (y, -x)/m
-        if (r2 > 0) {
-          const double lm = (a * (y * vx - x * vy) + 2 * s * (x * vx + y * vy)) / r2;  // lambda/m
-          fx = lm * y;
-          fy = -lm * x;
-        } else {  // -alpha s J q - 2 s J q' + 2 s^2 q at q = 0
-          fx = 2 * s * vy;
-          fy = -2 * s * vx;
-        }
-        du[0] = vx;
-        du[1] = vy;
-        du[2] = -w2 * x - a * vx + fx;
-        du[3] = -w2 * y - a * vy + fy;
-      },
+  return odeint_dense<4>(FoucaultMultiplierOde(p),
       State{q0(0), q0(1), v0(0), v0(1)}, times, tol);
 }
 

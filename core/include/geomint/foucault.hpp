@@ -864,4 +864,28 @@ FoucaultState<T> foucault_exact(const FoucaultParams<T>& p, const Vec2<T>& q0, c
 std::vector<std::array<double, 4>> foucault_reference(const FoucaultScene& scene, const std::vector<double>& times,
                                                       double tol = 1e-12);
 
+// The right-hand side foucault_reference integrates, on u = (x, y, x', y'), for other ODE solvers.
+struct FoucaultMultiplierOde {
+  double w2, s, a;
+  explicit FoucaultMultiplierOde(const FoucaultParams<double>& p) : w2(p.w2), s(p.s), a(p.alpha) {}
+  template <class State>
+  void operator()(const State& u, State& du, double) const {
+    const double x = u[0], y = u[1], vx = u[2], vy = u[3];
+    const double r2 = x * x + y * y;
+    double fx, fy;  // constraint force per unit mass, lambda (y, -x)/m
+    if (r2 > 0) {
+      const double lm = (a * (y * vx - x * vy) + 2 * s * (x * vx + y * vy)) / r2;  // lambda/m
+      fx = lm * y;
+      fy = -lm * x;
+    } else {  // -alpha s J q - 2 s J q' + 2 s^2 q at q = 0
+      fx = 2 * s * vy;
+      fy = -2 * s * vx;
+    }
+    du[0] = vx;
+    du[1] = vy;
+    du[2] = -w2 * x - a * vx + fx;
+    du[3] = -w2 * y - a * vy + fy;
+  }
+};
+
 }  // namespace geomint

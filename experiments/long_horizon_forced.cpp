@@ -1,0 +1,306 @@
+// Long-horizon work–precision for the forced damped oscillator q'' + alpha q' + q = beta sin(omega t) of the
+// generic core (core/include/geomint/systems/forced_oscillator.hpp), started on its steady state
+// q_ss = C sin(omega t - delta): steady-state amplitude and phase error against the closed form, against CPU time.
+// Over the second half of the horizon (where a method's own transient, started from the exact steady state, has
+// decayed by e^{-alpha T/4}) q is fitted by least squares (GSL) to A sin(omega t) + B cos(omega t) + c:
+//   amp_err    |sqrt(A^2 + B^2) - C| / C
+//   phase_err  |atan2(-B, A) - delta| (rad)
+// Methods: every scheme the registry builds for the system (fast paths) and Odeint rk4 over steps per forcing
+// period; Odeint dopri5, Bulirsch–Stoer and GSL rk8pd over tolerance (abs = rel) on the equation written by hand.
+//   long_horizon_forced [--periods 100 300] [--m 8 16 32 64 128] [--tol 1e-5 1e-7 1e-9 1e-11] [--reps 3]
+//                       [--alpha 0.1] [--beta 0.3] [--omega 1.0471975511965976] [--out out]
+// The study in README:
+//   long_horizon_forced --periods 100 1000 10000 --m 8 16 32 64 128 256 512 --tol 1e-5 1e-7 1e-9 1e-11
+// With the default omega = pi/3 the forcing period is 6, T = 6 periods and h = 6/m divide exactly; another
+// omega needs 2 pi/omega times m to give an h that divides T.
+// Writes out/long_horizon_forced.tsv (errors: same bits for the same command), _timings.tsv, _summary.tsv and
+// the figure out/long_horizon_forced.{png,pdf}.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+#include <boost/numeric/odeint.hpp>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_multifit.h>
+#include <gsl/gsl_odeiv2.h>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/io.hpp"
+#include "geomint/plots/figure.hpp"
+#include "geomint/registry.hpp"
+#include "geomint/timing.hpp"
+#include "long_horizon_table.hpp"
+
+using namespace geomint;
+namespace odeint = boost::numeric::odeint;
+using State2 = std::array<double, 2>;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Fit {
+  double amp = std::nan(""), phase = std::nan("");
+  long steps = 0;
+};
+
+// Least-squares A sin(w t) + B cos(w t) + c over the samples with t >= t0 (GSL multifit).
+class SteadyFit {
+ public:
+  SteadyFit(double omega, double t0) : w_(omega), t0_(t0) {}
+  void point(double t, double q) {
+    if (t < t0_) return;
+    t_.push_back(t);
+    q_.push_back(q);
+  }
+  Fit result(long steps) const {
+    Fit f;
+    f.steps = steps;
+    const std::size_t n = t_.size();
+    if (n < 6) return f;
+    gsl_matrix* X = gsl_matrix_alloc(n, 3);
+    gsl_vector* y = gsl_vector_alloc(n);
+    gsl_vector* c = gsl_vector_alloc(3);
+    gsl_matrix* cov = gsl_matrix_alloc(3, 3);
+    gsl_multifit_linear_workspace* ws = gsl_multifit_linear_alloc(n, 3);
+    for (std::size_t i = 0; i < n; ++i) {
+      gsl_matrix_set(X, i, 0, std::sin(w_ * t_[i]));
+      gsl_matrix_set(X, i, 1, std::cos(w_ * t_[i]));
+      gsl_matrix_set(X, i, 2, 1.0);
+      gsl_vector_set(y, i, q_[i]);
+    }
+    double chisq = 0;
+    gsl_multifit_linear(X, y, c, cov, &chisq, ws);
+    const double A = gsl_vector_get(c, 0), B = gsl_vector_get(c, 1);
+    f.amp = std::hypot(A, B);
+    f.phase = std::atan2(-B, A);
+    gsl_multifit_linear_free(ws);
+    gsl_matrix_free(cov);
+    gsl_vector_free(c);
+    gsl_vector_free(y);
+    gsl_matrix_free(X);
+    return f;
+  }
+
+ private:
+  double w_, t0_;
+  std::vector<double> t_, q_;
+};
+
+struct Point {
+  std::string method, family, knob;
+  double periods, value;
+  Fit fit;
+  TimingStats time;
+};
+
+using Rhs = std::function<void(double, const double*, double*)>;
+
+struct OdeRhs {
+  const Rhs* f;
+  void operator()(const State2& x, State2& dx, double t) const { (*f)(t, x.data(), dx.data()); }
+};
+
+template <class Stepper>
+Fit controlled_run(Stepper st, const Rhs& f, State2 x, double T, double omega, bool measure) {
+  SteadyFit fit(omega, T / 2);
+  const OdeRhs rhs{&f};
+  double t = 0, dt = 0.01;
+  long steps = 0, fails = 0;
+  while (t < T) {
+    const bool last = dt >= T - t;
+    double dt_try = last ? T - t : dt;
+    if (st.try_step(rhs, x, t, dt_try) == odeint::success) {
+      ++steps;
+      fails = 0;
+      if (last) t = T;
+      dt = dt_try;
+      if (measure) fit.point(t, x[0]);
+    } else {
+      dt = dt_try;
+      if (++fails > 1000) throw NumericalFailure(steps, "step size", "no acceptable step at t = " + show(t));
+    }
+    if (!std::isfinite(x[0])) throw NumericalFailure(steps, "state", "non-finite state at t = " + show(t));
+  }
+  do_not_optimize(x[0]);
+  return measure ? fit.result(steps) : Fit{};
+}
+
+int gsl_rhs(double t, const double y[], double dydt[], void* params) {
+  (*static_cast<const Rhs*>(params))(t, y, dydt);
+  return GSL_SUCCESS;
+}
+
+Fit rk8pd_run(const Rhs& f, State2 x0, double tol, double T, double omega, bool measure) {
+  SteadyFit fit(omega, T / 2);
+  gsl_odeiv2_system sys{gsl_rhs, nullptr, 2, const_cast<Rhs*>(&f)};
+  gsl_odeiv2_step* st = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 2);
+  gsl_odeiv2_control* c = gsl_odeiv2_control_y_new(tol, tol);
+  gsl_odeiv2_evolve* ev = gsl_odeiv2_evolve_alloc(2);
+  struct Free {
+    gsl_odeiv2_step* s;
+    gsl_odeiv2_control* c;
+    gsl_odeiv2_evolve* e;
+    ~Free() {
+      gsl_odeiv2_evolve_free(e);
+      gsl_odeiv2_control_free(c);
+      gsl_odeiv2_step_free(s);
+    }
+  } guard{st, c, ev};
+  double t = 0, dt = 0.01, y[2] = {x0[0], x0[1]};
+  long steps = 0;
+  while (t < T) {
+    if (gsl_odeiv2_evolve_apply(ev, c, st, &sys, &t, T, &dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
+      throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
+    ++steps;
+    if (measure) fit.point(t, y[0]);
+  }
+  do_not_optimize(y[0]);
+  return measure ? fit.result(steps) : Fit{};
+}
+
+Point measure_point(const std::string& method, const std::string& family, const std::string& knob, double periods,
+                    double value, const std::function<Fit(bool)>& run, const std::function<TimingStats()>& timing) {
+  Point pt{method, family, knob, periods, value, {}, {std::nan(""), std::nan(""), std::nan(""), 0}};
+  try {
+    pt.fit = run(true);
+    pt.time = timing();
+  } catch (const NumericalFailure& f) {
+    std::fprintf(stderr, "long_horizon_forced: %s, %g periods, %s = %g: %s (recorded as missing values)\n", method.c_str(),
+                 periods, knob.c_str(), value, f.what());
+  }
+  return pt;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return guarded_main("long_horizon_forced", [&] {
+    std::vector<double> periods{100, 300}, ms{8, 16, 32, 64, 128}, tols{1e-5, 1e-7, 1e-9, 1e-11};
+    double alpha = 0.1, beta = 0.3, omega = kPi / 3;
+    int reps = 3;
+    Cli cli("long_horizon_forced", "long-horizon steady-state amplitude and phase error against CPU time: forced oscillator");
+    cli.options.add_options()("periods", po::value(&periods)->multitoken(), "horizons in forcing periods (default 100 300)")(
+        "m", po::value(&ms)->multitoken(), "steps per forcing period of the fixed-step methods (default 8 .. 128)")(
+        "tol", po::value(&tols)->multitoken(), "tolerances (abs = rel) of the adaptive methods (default 1e-5 .. 1e-11)")(
+        "alpha", po::value(&alpha)->default_value(alpha), "damping")("beta", po::value(&beta)->default_value(beta), "forcing amplitude")(
+        "omega", po::value(&omega)->default_value(omega, "pi/3"), "forcing frequency")(
+        "reps", po::value(&reps)->default_value(reps), "timed repetitions");
+    if (!cli.parse(argc, argv)) return 0;
+    require(!periods.empty() && !ms.empty() && !tols.empty(), "give at least one value per list");
+    require(std::isfinite(alpha) && alpha > 0, "alpha must be positive (a steady state needs damping), got " + show(alpha));
+    require(std::isfinite(beta) && beta != 0, "beta must be finite and nonzero, got " + show(beta));
+    require(std::isfinite(omega) && omega > 0, "omega must be positive, got " + show(omega));
+    for (double P : periods) require(std::isfinite(P) && P >= 4 && P <= 1e7, "periods must be in [4, 1e7], got " + show(P));
+    for (double m : ms) require(std::isfinite(m) && m >= 2 && m <= 1e5, "m must be in [2, 1e5], got " + show(m));
+    for (double t : tols) require(std::isfinite(t) && t >= 1e-14 && t <= 1e-2, "tol must be in [1e-14, 1e-2], got " + show(t));
+    require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
+    std::sort(periods.begin(), periods.end());
+    const SystemInfo& sys = find_system("forced-oscillator");
+    const double Tf = 2 * kPi / omega;
+    auto values_for = [&](double P) {
+      return ParamValues{{"alpha", alpha}, {"beta", beta}, {"omega", omega}, {"dq0", 0}, {"dv0", 0}, {"T", P * Tf}};
+    };
+    for (double P : periods) {
+      sys.validate(values_for(P));
+      for (double m : ms) step_count(Tf / m, P * Tf);
+    }
+    const auto dir = prepare_output_dir(cli.out);
+    const double k = 1 - omega * omega, C = beta / std::sqrt(k * k + alpha * alpha * omega * omega),
+                 delta = std::atan2(alpha * omega, k);
+
+    std::vector<Point> pts;
+    for (double P : periods) {
+      std::fprintf(stderr, "long_horizon_forced: %g periods ...\n", P);
+      const ParamValues pv = values_for(P);
+      const double T = P * Tf;
+      // The equation of the system's header, by hand (the AD-derived sys.ode(pv) costs ~10x more per evaluation and
+      // would charge the ODE methods for the derivation, not for the integration; the schemes run their closed forms).
+      const Rhs f = [alpha, beta, omega](double t, const double* x, double* dx) {
+        dx[0] = x[1];
+        dx[1] = -x[0] - alpha * x[1] + beta * std::sin(omega * t);
+      };
+      const auto x0v = sys.ode_initial_state(pv);
+      const State2 x0{x0v[0], x0v[1]};
+      for (double m : ms) {
+        const double h = Tf / m;
+        const long N = step_count(h, T);
+        const long every = std::max(1L, static_cast<long>(m / 16));
+        for (const auto& name : sys.scheme_names()) {
+          auto run = [&, name, h, every](bool) {
+            const Run r = sys.run(pv, name, h, Path::fast, every);
+            SteadyFit fit(omega, T / 2);
+            for (std::size_t i = 0; i < r.t.size(); ++i) fit.point(r.t[i], r.q[i]);
+            return fit.result(r.steps);
+          };
+          auto timing = [&, name, h] {
+            const double s = sys.seconds_per_run(pv, name, h, Path::fast, reps);
+            return TimingStats{s, s, s, reps};
+          };
+          pts.push_back(measure_point(name, "geometric", "m", P, m, run, timing));
+        }
+        auto rk4 = [&, h, N](bool measure) {
+          SteadyFit fit(omega, T / 2);
+          odeint::runge_kutta4<State2> st;
+          State2 x = x0;
+          const OdeRhs rhs{&f};
+          for (long j = 0; j < N; ++j) {
+            st.do_step(rhs, x, static_cast<double>(j) * h, h);
+            if (measure) fit.point(static_cast<double>(j + 1) * h, x[0]);
+          }
+          if (!std::isfinite(x[0])) throw NumericalFailure(N, "state", "non-finite state at the end");
+          do_not_optimize(x[0]);
+          return measure ? fit.result(N) : Fit{};
+        };
+        pts.push_back(measure_point("odeint-rk4", "rk", "m", P, m, rk4,
+                                    [&] { return time_per_call([&] { do_not_optimize(rk4(false).steps); }, reps); }));
+      }
+      for (double tol : tols) {
+        auto dopri = [&, tol, T](bool m) {
+          return controlled_run(odeint::make_controlled(tol, tol, odeint::runge_kutta_dopri5<State2>()), f, x0, T, omega, m);
+        };
+        auto bs = [&, tol, T](bool m) { return controlled_run(odeint::bulirsch_stoer<State2>(tol, tol), f, x0, T, omega, m); };
+        auto r8 = [&, tol, T](bool m) { return rk8pd_run(f, x0, tol, T, omega, m); };
+        pts.push_back(measure_point("odeint-dopri5", "adaptive", "tol", P, tol, dopri,
+                                    [&] { return time_per_call([&] { do_not_optimize(dopri(false).steps); }, reps); }));
+        pts.push_back(measure_point("odeint-bulirsch-stoer", "adaptive", "tol", P, tol, bs,
+                                    [&] { return time_per_call([&] { do_not_optimize(bs(false).steps); }, reps); }));
+        pts.push_back(measure_point("gsl-rk8pd", "adaptive", "tol", P, tol, r8,
+                                    [&] { return time_per_call([&] { do_not_optimize(r8(false).steps); }, reps); }));
+      }
+    }
+
+    const Params params{{"system", "forced-oscillator: q'' + alpha q' + q = beta sin(omega t), started on the steady state"},
+                        {"alpha", format_number(alpha)}, {"beta", format_number(beta)}, {"omega", format_number(omega)},
+                        {"periods", format_list(periods) + " (forcing periods 2 pi/omega)"}, {"m", format_list(ms) + " (steps per forcing period)"},
+                        {"tol", format_list(tols) + " (abs = rel)"}, {"reps", std::to_string(reps)},
+                        {"steady state", "C = " + format_number(C) + ", delta = " + format_number(delta)},
+                        {"measures", "least squares q = A sin(omega t) + B cos(omega t) + c over t >= T/2; amp_err = |hypot(A,B) - C|/C; "
+                                     "phase_err = |atan2(-B, A) - delta| rad"}};
+    TsvWriter data(dir / "long_horizon_forced.tsv", "long_horizon_forced", params,
+                   {"method", "family", "alpha", "periods", "knob", "value", "steps", "amp_err", "phase_err"});
+    TsvWriter tim(dir / "long_horizon_forced_timings.tsv", "long_horizon_forced", params,
+                  {"method", "family", "alpha", "periods", "knob", "value", "seconds_median", "reps"});
+    for (const auto& p : pts) {
+      data.row(p.method, p.family, alpha, p.periods, p.knob, p.value, p.fit.steps, std::abs(p.fit.amp - C) / C,
+               std::abs(p.fit.phase - delta));
+      tim.row(p.method, p.family, alpha, p.periods, p.knob, p.value, p.time.median, p.time.reps);
+    }
+    data.commit();
+    tim.commit();
+
+    const auto d = plots::read_tsv(dir / "long_horizon_forced.tsv");
+    const auto tt = plots::read_tsv(dir / "long_horizon_forced_timings.tsv");
+    const long_horizon::Table table{d, tt, "alpha", "periods"};
+    const std::vector<long_horizon::Measure> measures{{"amp_err", "steady-state amplitude error |C_fit - C|/C", 1e-3},
+                                                      {"phase_err", "steady-state phase error (rad)", 1e-3}};
+    long_horizon::summarise(table, measures, dir / "long_horizon_forced_summary.tsv", "long_horizon_forced", params);
+    long_horizon::draw(table, measures, format_number(periods.back()),
+                       "Forced oscillator over " + format_number(periods.back()) + " forcing periods: steady-state error against CPU time (median)",
+                       dir / "long_horizon_forced");
+    return 0;
+  });
+}

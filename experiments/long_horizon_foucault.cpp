@@ -1,0 +1,373 @@
+// Long-horizon work–precision for the damped Foucault pendulum (Section 3.2, the paper's scene): structural error
+// against CPU time (median of repeats after a warm-up) over the paper's hour and longer.
+//   precession_err  |rate_fit + Omega sin(beta)| / (Omega sin(beta)): the plane angle atan2(y, x) (mod pi) at the
+//                   turning points (local maxima of |q| along the run) fitted against t (GSL); exactly -s t + c.
+//   decay_err       |alpha_fit - alpha| / alpha from log Q_r at the turning points, Q_r = b r^2 + alpha r r' + r'^2,
+//                   b = w2 - s^2, r r' = q.v, r'^2 = (q.v)^2/|q|^2: the signed radius obeys r'' = -b r - alpha r',
+//                   so Q_r decays exactly as e^{-alpha t} (foucault.hpp, foucault_exact).
+//   constraint_err  max over the run of |Phi(q, v)| / (|q| |v| + s |q|^2), (13) in the continuous variables. For the
+//                   ODE methods v is their state (this is the drift of (13)); for the schemes v = (q_{j+1} - q_{j-1})/2h.
+//   discrete_err    the schemes' own discrete constraint (paper: |Phi_d| / its round-off scale; rotation:
+//                   |n(phi_{j+1}).q_{j+1}| / (|q_j| + |q_{j+1}|)), max over every step; nan for the ODE methods.
+//   own_constraint_err  the constraint each method imposes: discrete_err for the schemes, constraint_err for the
+//                   ODE methods (which impose (13) only through its derivative, so its value drifts).
+// Methods: la-nh and contact-nh with the paper's constraint and with 'rotation', and Odeint rk4 over h; on the
+// Lagrange–d'Alembert multiplier ODE (foucault.hpp) Odeint dopri5 and Bulirsch–Stoer and GSL rk8pd over tolerance
+// (rel = tol, abs = 1e-8 tol in m and m/s, so the control stays relative while the amplitude decays by e^-18 in
+// 10 h). A run that fails is a missing value with a message.
+//   long_horizon_foucault [--alpha 1e-3] [--T 3600] [--h 0.1 0.05 0.025] [--tol 1e-6 1e-8 1e-10] [--reps 3] [--out out]
+// The study in README (the hour and 10 hours; a few minutes):
+//   long_horizon_foucault --T 3600 36000 --h 0.2 0.1 0.05 0.025 0.0125 --tol 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10 1e-11
+// Writes out/long_horizon_foucault.tsv (errors: same bits for the same command), _timings.tsv, _summary.tsv,
+// out/long_horizon_foucault_drift.tsv (the constraint residual at the turning points of one run per method) and
+// the figure out/long_horizon_foucault.{png,pdf}.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+#include <boost/numeric/odeint.hpp>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_fit.h>
+#include <gsl/gsl_odeiv2.h>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/foucault.hpp"
+#include "geomint/io.hpp"
+#include "geomint/plots/figure.hpp"
+#include "geomint/timing.hpp"
+#include "long_horizon_table.hpp"
+
+using namespace geomint;
+namespace odeint = boost::numeric::odeint;
+using State4 = std::array<double, 4>;
+
+namespace {
+
+struct Structure {
+  double precession = std::nan(""), decay = std::nan(""), constraint = std::nan(""), discrete = std::nan("");
+  long steps = 0, turns = 0;
+  std::vector<std::array<double, 2>> drift;  // (t, constraint residual) at the turning points
+};
+
+// Turning points and the measures, fed with (t, q, v) at every step (or accepted step).
+class Probe {
+ public:
+  explicit Probe(const FoucaultParams<double>& p) : p_(p), b_(p.w2 - p.s * p.s) {}
+  void point(double t, const Vec2<double>& q, const Vec2<double>& v) {
+    const double r = q.norm();
+    const double scale = r * v.norm() + p_.s * r * r;
+    if (scale > 0) cmax_ = std::max(cmax_, std::abs(foucault_constraint(p_, q, v)) / scale);
+    if (have_ >= 2 && r_m_ > r_mm_ && r_m_ >= r) turn(t_m_, q_m_, v_m_);
+    r_mm_ = r_m_;
+    r_m_ = r;
+    t_m_ = t;
+    q_m_ = q;
+    v_m_ = v;
+    ++have_;
+  }
+  Structure result(long steps) const {
+    Structure s;
+    s.steps = steps;
+    s.turns = static_cast<long>(ts_.size());
+    s.constraint = cmax_;
+    s.drift = drift_;
+    if (ts_.size() < 3) return s;
+    double c0, c1, c00, c01, c11, ss;
+    gsl_fit_linear(ts_.data(), 1, th_.data(), 1, ts_.size(), &c0, &c1, &c00, &c01, &c11, &ss);
+    s.precession = std::abs(c1 + p_.s) / p_.s;
+    gsl_fit_linear(ts_.data(), 1, lq_.data(), 1, ts_.size(), &c0, &c1, &c00, &c01, &c11, &ss);
+    s.decay = std::abs(-c1 - p_.alpha) / p_.alpha;
+    return s;
+  }
+
+ private:
+  void turn(double t, const Vec2<double>& q, const Vec2<double>& v) {
+    const double r2 = q.squaredNorm(), qv = q.dot(v);
+    double a = std::atan2(q(1), q(0));
+    if (!th_.empty()) {  // the plane is a line: its angle is defined modulo pi; take the branch nearest the last
+      const double prev = th_.back();
+      a += foucault_pi * std::round((prev - a) / foucault_pi);
+    }
+    ts_.push_back(t);
+    th_.push_back(a);
+    lq_.push_back(std::log(b_ * r2 + p_.alpha * qv + qv * qv / r2));
+    const double scale = std::sqrt(r2) * v.norm() + p_.s * r2;
+    drift_.push_back({t, std::abs(foucault_constraint(p_, q, v)) / scale});
+  }
+  FoucaultParams<double> p_;
+  double b_;
+  double cmax_ = 0, r_m_ = 0, r_mm_ = 0, t_m_ = 0;
+  long have_ = 0;
+  Vec2<double> q_m_, v_m_;
+  std::vector<double> ts_, th_, lq_;
+  std::vector<std::array<double, 2>> drift_;
+};
+
+struct Point {
+  std::string method, family, knob;
+  double T, value;
+  Structure s;
+  TimingStats time;
+};
+
+template <class Scheme>
+Structure scheme_run(const FoucaultScene& sc, FoucaultConstraint con, double h, long N, bool measure) {
+  const FoucaultParams<double> p(sc);
+  const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
+  if (!measure) {
+    double acc = 0;
+    integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) { acc += st.qn(0); }, con);
+    do_not_optimize(acc);
+    return {};
+  }
+  Probe probe(p);
+  double disc = 0;
+  integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
+    const bool rot = st.constraint == FoucaultConstraint::rotation;
+    const double phid = rot ? foucault_line<double>(st.phin).n.dot(st.qn) : discrete_constraint(p, st.q, st.qn, h);
+    const double scale = rot ? st.q.norm() + st.qn.norm() : discrete_constraint_scale(st.q, st.qn, h);
+    disc = std::max(disc, scale > 0 ? std::abs(phid) / scale : std::abs(phid));
+    probe.point(st.t, st.q, (st.qn - st.qm) / (2 * h));
+  }, con);
+  Structure s = probe.result(N);
+  s.discrete = disc;
+  return s;
+}
+
+// Odeint's rk4 with a fixed step on the multiplier ODE.
+Structure rk4_run(const FoucaultScene& sc, double h, long N, bool measure) {
+  const FoucaultParams<double> p(sc);
+  const FoucaultMultiplierOde f(p);
+  const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
+  State4 x{q0(0), q0(1), v0(0), v0(1)};
+  odeint::runge_kutta4<State4> st;
+  Probe probe(p);
+  if (measure) probe.point(0, q0, v0);
+  for (long j = 0; j < N; ++j) {
+    st.do_step(f, x, static_cast<double>(j) * h, h);
+    if (measure) probe.point(static_cast<double>(j + 1) * h, Vec2<double>(x[0], x[1]), Vec2<double>(x[2], x[3]));
+  }
+  if (!std::isfinite(x[0]) || !std::isfinite(x[1])) throw NumericalFailure(N, "state", "non-finite state at the end");
+  do_not_optimize(x[0]);
+  return measure ? probe.result(N) : Structure{};
+}
+
+// An Odeint controlled stepper driven by try_step to T (the last step shortened to land on T).
+template <class Stepper>
+Structure controlled_run(const FoucaultScene& sc, Stepper st, double T, bool measure) {
+  const FoucaultParams<double> p(sc);
+  const FoucaultMultiplierOde f(p);
+  const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
+  State4 x{q0(0), q0(1), v0(0), v0(1)};
+  Probe probe(p);
+  if (measure) probe.point(0, q0, v0);
+  double t = 0, dt = 0.01;
+  long steps = 0, fails = 0;
+  while (t < T) {
+    const bool last = dt >= T - t;
+    double dt_try = last ? T - t : dt;
+    if (st.try_step(f, x, t, dt_try) == odeint::success) {
+      ++steps;
+      fails = 0;
+      if (last) t = T;
+      dt = dt_try;
+      if (measure) probe.point(t, Vec2<double>(x[0], x[1]), Vec2<double>(x[2], x[3]));
+    } else {
+      dt = dt_try;
+      if (++fails > 1000) throw NumericalFailure(steps, "step size", "no acceptable step at t = " + show(t));
+    }
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1])) throw NumericalFailure(steps, "state", "non-finite state at t = " + show(t));
+  }
+  do_not_optimize(x[0]);
+  return measure ? probe.result(steps) : Structure{};
+}
+
+int gsl_rhs(double t, const double y[], double dydt[], void* params) {
+  const auto* f = static_cast<const FoucaultMultiplierOde*>(params);
+  const State4 u{y[0], y[1], y[2], y[3]};
+  State4 du;
+  (*f)(u, du, t);
+  std::copy(du.begin(), du.end(), dydt);
+  return GSL_SUCCESS;
+}
+
+Structure rk8pd_run(const FoucaultScene& sc, double tol, double T, bool measure) {
+  const FoucaultParams<double> p(sc);
+  FoucaultMultiplierOde f(p);
+  const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
+  gsl_odeiv2_system sys{gsl_rhs, nullptr, 4, &f};
+  gsl_odeiv2_step* st = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 4);
+  gsl_odeiv2_control* c = gsl_odeiv2_control_y_new(1e-8 * tol, tol);
+  gsl_odeiv2_evolve* ev = gsl_odeiv2_evolve_alloc(4);
+  struct Free {
+    gsl_odeiv2_step* s;
+    gsl_odeiv2_control* c;
+    gsl_odeiv2_evolve* e;
+    ~Free() {
+      gsl_odeiv2_evolve_free(e);
+      gsl_odeiv2_control_free(c);
+      gsl_odeiv2_step_free(s);
+    }
+  } guard{st, c, ev};
+  double t = 0, dt = 0.01, y[4] = {q0(0), q0(1), v0(0), v0(1)};
+  long steps = 0;
+  Probe probe(p);
+  if (measure) probe.point(0, q0, v0);
+  while (t < T) {
+    if (gsl_odeiv2_evolve_apply(ev, c, st, &sys, &t, T, &dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
+      throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
+    ++steps;
+    if (measure) probe.point(t, Vec2<double>(y[0], y[1]), Vec2<double>(y[2], y[3]));
+  }
+  do_not_optimize(y[0]);
+  return measure ? probe.result(steps) : Structure{};
+}
+
+Point measure_point(const std::string& method, const std::string& family, const std::string& knob, double T, double value,
+                    const std::function<Structure(bool)>& run, int reps) {
+  Point pt{method, family, knob, T, value, {}, {std::nan(""), std::nan(""), std::nan(""), reps}};
+  try {
+    pt.s = run(true);
+    pt.time = time_per_call([&] { do_not_optimize(run(false).steps); }, reps);
+  } catch (const NumericalFailure& f) {
+    std::fprintf(stderr, "long_horizon_foucault: %s, T = %g s, %s = %g: %s (recorded as missing values)\n", method.c_str(), T,
+                 knob.c_str(), value, f.what());
+  }
+  return pt;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return guarded_main("long_horizon_foucault", [&] {
+    double alpha = 1e-3;
+    std::vector<double> horizons{3600}, hs{0.1, 0.05, 0.025}, tols{1e-6, 1e-8, 1e-10};
+    int reps = 3;
+    Cli cli("long_horizon_foucault", "long-horizon structural error against CPU time: damped Foucault pendulum");
+    cli.options.add_options()("alpha", po::value(&alpha)->default_value(alpha), "damping (1/s)")(
+        "T", po::value(&horizons)->multitoken(), "horizons in s (default 3600, the paper's hour)")(
+        "h", po::value(&hs)->multitoken(), "steps of the fixed-step methods (each must divide every T; default 0.1 0.05 0.025)")(
+        "tol", po::value(&tols)->multitoken(), "relative tolerances of the adaptive methods (default 1e-6 1e-8 1e-10)")(
+        "reps", po::value(&reps)->default_value(reps), "timed repetitions");
+    if (!cli.parse(argc, argv)) return 0;
+    require(!horizons.empty() && !hs.empty() && !tols.empty(), "give at least one value per list");
+    FoucaultScene sc;
+    sc.alpha = alpha;
+    sc.validate();
+    require(alpha > 0, "alpha must be positive (the decay rate is measured against it)");
+    for (double T : horizons) require(std::isfinite(T) && T >= 100 && T <= 1e6, "T must be in [100, 1e6] s, got " + show(T));
+    for (double T : horizons)
+      for (double h : hs) {
+        require_positive(h, "h");
+        require(T / h <= 1e9, "more than 1e9 steps in one run");
+        step_count(h, T);
+      }
+    for (double t : tols) require(std::isfinite(t) && t >= 1e-13 && t <= 1e-3, "tol must be in [1e-13, 1e-3], got " + show(t));
+    require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
+    std::sort(horizons.begin(), horizons.end());
+    const auto dir = prepare_output_dir(cli.out);
+
+    std::vector<Point> pts;
+    for (double T : horizons) {
+      std::fprintf(stderr, "long_horizon_foucault: T = %g s ...\n", T);
+      for (double h : hs) {
+        const long N = step_count(h, T);
+        for (auto con : {FoucaultConstraint::rotation, FoucaultConstraint::paper}) {
+          const std::string tag = std::string("-") + to_string(con);
+          pts.push_back(measure_point(std::string("la-nh") + tag, "geometric", "h", T, h,
+                                      [&, con, h, N](bool m) { return scheme_run<schemes::LaNh>(sc, con, h, N, m); }, reps));
+          pts.push_back(measure_point(std::string("contact-nh") + tag, "geometric", "h", T, h,
+                                      [&, con, h, N](bool m) { return scheme_run<schemes::ContactNh>(sc, con, h, N, m); }, reps));
+        }
+        pts.push_back(measure_point("odeint-rk4", "rk", "h", T, h, [&, h, N](bool m) { return rk4_run(sc, h, N, m); }, reps));
+      }
+      for (double tol : tols) {
+        pts.push_back(measure_point("odeint-dopri5", "adaptive", "tol", T, tol, [&, tol, T](bool m) {
+          return controlled_run(sc, odeint::make_controlled(1e-8 * tol, tol, odeint::runge_kutta_dopri5<State4>()), T, m);
+        }, reps));
+        pts.push_back(measure_point("odeint-bulirsch-stoer", "adaptive", "tol", T, tol, [&, tol, T](bool m) {
+          return controlled_run(sc, odeint::bulirsch_stoer<State4>(1e-8 * tol, tol), T, m);
+        }, reps));
+        pts.push_back(measure_point("gsl-rk8pd", "adaptive", "tol", T, tol, [&, tol, T](bool m) { return rk8pd_run(sc, tol, T, m); }, reps));
+      }
+    }
+
+    Params params = foucault_scene_params(sc);
+    params.insert(params.end(), {{"T", format_list(horizons)}, {"h", format_list(hs)}, {"tol", format_list(tols) + " (rel; abs = 1e-8 tol)"},
+                                 {"start", "legendre"}, {"reps", std::to_string(reps)},
+                                 {"measures", "precession_err = |rate + s|/s (turning points); decay_err = |alpha_fit - alpha|/alpha "
+                                              "(log Q_r at turning points); constraint_err = max |Phi(q,v)|/(|q||v| + s|q|^2); "
+                                              "discrete_err = the schemes' discrete constraint residual (round-off units); own_constraint_err = discrete_err (schemes) or constraint_err (ODE methods)"}});
+    TsvWriter data(dir / "long_horizon_foucault.tsv", "long_horizon_foucault", params,
+                   {"method", "family", "alpha", "T", "knob", "value", "steps", "turns", "precession_err", "decay_err",
+                    "constraint_err", "discrete_err", "own_constraint_err"});
+    TsvWriter tim(dir / "long_horizon_foucault_timings.tsv", "long_horizon_foucault", params,
+                  {"method", "family", "alpha", "T", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
+    // Drift of (13) over time: the finest run of each fixed-step method and the tightest of each adaptive one,
+    // at the longest horizon.
+    TsvWriter drift(dir / "long_horizon_foucault_drift.tsv", "long_horizon_foucault", params, {"method", "knob", "value", "t", "constraint_err"});
+    for (const auto& p : pts) {
+      data.row(p.method, p.family, alpha, p.T, p.knob, p.value, p.s.steps, p.s.turns, p.s.precession, p.s.decay,
+               p.s.constraint, p.s.discrete, p.family == "geometric" ? p.s.discrete : p.s.constraint);
+      tim.row(p.method, p.family, alpha, p.T, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
+      const bool pick = p.T == horizons.back() && p.value == (p.knob == "h" ? hs.back() : tols.back());
+      if (pick)
+        for (const auto& [t, c] : p.s.drift) drift.row(p.method, p.knob, p.value, t, c);
+    }
+    data.commit();
+    tim.commit();
+    drift.commit();
+
+    const auto d = plots::read_tsv(dir / "long_horizon_foucault.tsv");
+    const auto tt = plots::read_tsv(dir / "long_horizon_foucault_timings.tsv");
+    const long_horizon::Table table{d, tt, "alpha", "T"};
+    const std::vector<long_horizon::Measure> measures{
+        {"precession_err", "precession-rate error |rate + s|/s", 1e-6},
+        {"decay_err", "energy-decay-rate error |alpha_fit - alpha|/alpha", 1e-4},
+        {"constraint_err", "max |Phi(q,v)| / (|q||v| + s|q|^2), (13)", 1e-8},
+        {"own_constraint_err", "residual of the constraint each method imposes", 1e-12}};
+    long_horizon::summarise(table, measures, dir / "long_horizon_foucault_summary.tsv", "long_horizon_foucault", params);
+
+    // The figure: the three measures against CPU time at the longest horizon, and the drift of (13) over time.
+    const auto dr = plots::read_tsv(dir / "long_horizon_foucault_drift.tsv");
+    plots::Figure fig;
+    fig.title = "Foucault pendulum, alpha = " + format_number(alpha) + ", T = " + format_number(horizons.back()) +
+                " s: structural error against CPU time (median); drift of (13) along the run";
+    fig.rows = 2;
+    fig.cols = 3;
+    fig.width_in = 15;
+    fig.height_in = 9;
+    const auto methods = table.values("method");
+    for (const auto& M : measures) {
+      plots::Panel p;
+      p.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
+                "set ylabel '" + M.column + "' noenhanced\nset key bottom left font ',7'\nset title '" + M.label + "' font ',9' noenhanced\n";
+      for (const auto& m : methods) {
+        auto keep = [&](std::size_t i) { return d.text(i, "method") == m && d.number(i, "T") == horizons.back(); };
+        const auto xs = tt.numbers("seconds_median", keep), ys = d.numbers(M.column, keep);
+        std::vector<double> x, y;
+        for (std::size_t i = 0; i < xs.size(); ++i)
+          if (std::isfinite(xs[i]) && std::isfinite(ys[i]) && ys[i] > 0) {
+            x.push_back(xs[i]);
+            y.push_back(ys[i]);
+          }
+        if (!x.empty()) p.series.push_back({x, y, m, plots::style_for(m, "linespoints")});
+      }
+      fig.panels.push_back(std::move(p));
+    }
+    plots::Panel pd;
+    pd.setup = "set logscale y\nset format y '10^{%L}'\nset xlabel 't (s)'\nset ylabel '|Phi| / (|q||v| + s|q|^2)'\n"
+               "set key top left font ',7'\nset title '(13) at the turning points (finest h, last tol; schemes: central v)' font ',9' noenhanced\n";
+    for (const auto& m : methods) {
+      auto keep = [&](std::size_t i) { return dr.text(i, "method") == m && dr.number(i, "constraint_err") > 0; };
+      const auto x = dr.numbers("t", keep), y = dr.numbers("constraint_err", keep);
+      if (!x.empty()) pd.series.push_back({x, y, m, plots::style_for(m, "lines")});
+    }
+    fig.panels.push_back(std::move(pd));
+    fig.draw(dir / "long_horizon_foucault");
+    return 0;
+  });
+}

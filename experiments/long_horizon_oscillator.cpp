@@ -1,0 +1,205 @@
+// Long-horizon work–precision for the damped oscillator q'' = -q - alpha q': what the structure costs.
+// x-axis: CPU time per run (median of repeats after a warm-up); y-axis: a structural error over the whole horizon
+// (core/include/geomint/long_horizon.hpp defines and justifies the measures):
+//   decay   |alpha_fit - alpha| / alpha, alpha_fit the least-squares exponent of Q = q^2 + alpha q p + p^2
+//   freq    |omega_fit - omega| / omega, omega_fit the least-squares slope of the unwrapped phase
+//   phase   |theta(T) - theta(0) - omega T| (rad): the phase error accumulated over the horizon
+//   balance max over windows of |E_k - E_{k+1} - W_k| / E_k: energy lost against the work of the damping force
+//           (windows of a fixed length, --window-periods, so that the balance means the same at every horizon)
+// Methods: the geometric schemes (la, contact: first order; la-midpoint, contact-sym, leapfrog: second order)
+// and Odeint's rk4 over steps per period; Odeint dopri5 and Bulirsch–Stoer and GSL rk8pd over tolerance.
+// A run that fails is a missing value (nan) with a message naming method, parameters and step.
+//   long_horizon_oscillator [--alpha 0.01 0.1] [--periods 100 1000] [--m 16 32 64 128 256] [--tol 1e-5 1e-7 1e-9 1e-11]
+//                [--window-periods 5] [--reps 3] [--out out]
+// The study in README (about 10 minutes on one core):
+//   long_horizon_oscillator --periods 1000 10000 100000 --m 16 32 64 128 256 512 --tol 1e-4 1e-6 1e-8 1e-10 1e-12
+// Writes out/long_horizon_oscillator.tsv (errors: the same bits for the same command),
+// out/long_horizon_oscillator_timings.tsv, out/long_horizon_oscillator_summary.tsv (times to reach each target,
+// crossovers and fitted slopes: derived from timings) and the figure out/long_horizon_oscillator.{png,pdf}.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/io.hpp"
+#include "geomint/long_horizon.hpp"
+#include "geomint/oscillator_registry.hpp"
+#include "geomint/oscillator_schemes.hpp"
+#include "geomint/plots/figure.hpp"
+#include "geomint/study.hpp"
+#include "geomint/timing.hpp"
+#include "long_horizon_table.hpp"
+
+using namespace geomint;
+namespace odeint = boost::numeric::odeint;
+
+namespace {
+
+constexpr double kTwoPi = 6.28318530717958647692;
+
+struct Measure {
+  const char* column;
+  const char* label;
+  double target;  // the structural error the summary asks each method to reach
+};
+const Measure kMeasures[] = {{"decay_err", "decay-rate error |alpha_fit - alpha|/alpha", 1e-5},
+                             {"freq_err", "frequency error |omega_fit - omega|/omega", 1e-7},
+                             {"phase_err", "phase error at T (rad)", 1e-2},
+                             {"balance_err", "dissipation balance error (max over windows)", 1e-5}};
+
+struct Point {
+  std::string method, family, knob;
+  double alpha, periods, value;
+  OscillatorStructure s;
+  TimingStats time;
+};
+
+using Runner = std::function<OscillatorStructure(bool measure)>;
+
+template <class S>
+Runner fixed(double alpha, double q0, double p0, double h, long N, long windows) {
+  return [=](bool m) {
+    return m ? run_fixed_structure<S, true>(alpha, q0, p0, h, N, windows)
+             : run_fixed_structure<S, false>(alpha, q0, p0, h, N, windows);
+  };
+}
+
+// The geometric schemes by name (the oscillator registry's work_precision list).
+Runner geometric(const std::string& name, double alpha, double q0, double p0, double h, long N, long windows) {
+  if (name == schemes::La::name) return fixed<schemes::La>(alpha, q0, p0, h, N, windows);
+  if (name == schemes::Contact::name) return fixed<schemes::Contact>(alpha, q0, p0, h, N, windows);
+  if (name == schemes::LaMidpoint::name) return fixed<schemes::LaMidpoint>(alpha, q0, p0, h, N, windows);
+  if (name == schemes::ContactSymmetric::name) return fixed<schemes::ContactSymmetric>(alpha, q0, p0, h, N, windows);
+  if (name == schemes::Leapfrog::name) return fixed<schemes::Leapfrog>(alpha, q0, p0, h, N, windows);
+  throw InputError("long_horizon_oscillator: no long-horizon driver for scheme '" + name + "'");
+}
+
+Point measure(const std::string& method, const std::string& family, const std::string& knob, double alpha,
+              double periods, double value, const Runner& run, int reps) {
+  Point p{method, family, knob, alpha, periods, value, {}, {std::nan(""), std::nan(""), std::nan(""), reps}};
+  try {
+    p.s = run(true);
+    p.time = time_per_call([&] { do_not_optimize(run(false).steps); }, reps);
+  } catch (const NumericalFailure& f) {
+    std::fprintf(stderr, "long_horizon_oscillator: %s, alpha = %g, %g periods, %s = %g: %s (recorded as missing values)\n",
+                 method.c_str(), alpha, periods, knob.c_str(), value, f.what());
+  }
+  return p;
+}
+
+double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return guarded_main("long_horizon_oscillator", [&] {
+    std::vector<double> alphas{0.01, 0.1}, periods{100, 1000}, ms{16, 32, 64, 128, 256}, tols{1e-5, 1e-7, 1e-9, 1e-11};
+    double q0 = -0.25, p0 = 0.75;
+    double window_periods = 5;
+    int reps = 3;
+    Cli cli("long_horizon_oscillator", "long-horizon structural error against CPU time: damped oscillator");
+    cli.options.add_options()("alpha", po::value(&alphas)->multitoken(), "damping values (default 0.01 0.1)")(
+        "periods", po::value(&periods)->multitoken(), "horizons T = 2 pi periods (default 100 1000)")(
+        "m", po::value(&ms)->multitoken(), "steps per period of the fixed-step methods, h = 2 pi / m (default 16 .. 256)")(
+        "tol", po::value(&tols)->multitoken(), "tolerances (abs = rel) of the adaptive methods (default 1e-5 .. 1e-11)")(
+        "q0", po::value(&q0)->default_value(q0), "initial position")("p0", po::value(&p0)->default_value(p0), "initial momentum")(
+        "window-periods", po::value(&window_periods)->default_value(window_periods),
+        "length of the windows of the balance and of the renormalisation, in periods (must divide every horizon)")(
+        "reps", po::value(&reps)->default_value(reps), "timed repetitions");
+    if (!cli.parse(argc, argv)) return 0;
+    require(!alphas.empty() && !periods.empty() && !ms.empty() && !tols.empty(), "give at least one value per list");
+    for (double a : alphas) require(std::isfinite(a) && a > 0 && a < 2, "alpha must be in (0, 2) (under-damped), got " + show(a));
+    for (double P : periods)
+      require(std::isfinite(P) && P >= 1 && P <= 1e7 && P == std::round(P), "periods must be whole numbers in [1, 1e7], got " + show(P));
+    for (double m : ms) require(m >= 4 && m <= 1e5 && m == std::round(m), "m must be a whole number in [4, 1e5], got " + show(m));
+    for (double t : tols) require(std::isfinite(t) && t >= 1e-14 && t <= 1e-2, "tol must be in [1e-14, 1e-2], got " + show(t));
+    require_finite(q0, "q0");
+    require_finite(p0, "p0");
+    require(q0 != 0 || p0 != 0, "q0 and p0 are both zero: nothing to measure");
+    require(std::isfinite(window_periods) && window_periods >= 1 && window_periods == std::round(window_periods),
+            "window-periods must be a whole number >= 1, got " + show(window_periods));
+    for (double P : periods)
+      require(std::fmod(P, window_periods) == 0 && P / window_periods >= 3,
+              "every horizon must be at least 3 windows and a multiple of --window-periods");
+    require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
+    for (double a : alphas)
+      require(a * kTwoPi * window_periods <= 20,
+                "the energy must decay by at most e^-20 per window (alpha 2 pi window-periods <= 20), so that the adaptive "
+                "methods' tolerance stays relative to the amplitude: lower --window-periods");
+    std::sort(periods.begin(), periods.end());
+    for (double P : periods)
+      for (double m : ms) require(P * m <= 1e10, "more than 1e10 steps in one run (periods x m)");
+    const auto dir = prepare_output_dir(cli.out);
+    const auto& geo = oscillator_defaults("work_precision");
+
+    std::vector<Point> pts;
+    for (double a : alphas)
+      for (double P : periods) {
+        std::fprintf(stderr, "long_horizon_oscillator: alpha = %g, %g periods ...\n", a, P);
+        const double T = kTwoPi * P;
+        for (double m : ms) {
+          const double h = kTwoPi / m;
+          const long N = std::lround(P * m);
+          const long W = std::lround(P / window_periods);
+          for (const auto& name : geo)
+            pts.push_back(measure(name, "geometric", "m", a, P, m, geometric(name, a, q0, p0, h, N, W), reps));
+          pts.push_back(measure("odeint-rk4", "rk", "m", a, P, m, [=](bool mm) {
+            return mm ? run_rk4_structure<true>(a, q0, p0, h, N, W) : run_rk4_structure<false>(a, q0, p0, h, N, W);
+          }, reps));
+        }
+        const long windows = std::lround(P / window_periods);
+        for (double tol : tols) {
+          auto dopri = [tol] { return odeint::make_controlled(tol, tol, odeint::runge_kutta_dopri5<OscWorkState>()); };
+          auto bs = [tol] { return odeint::bulirsch_stoer<OscWorkState>(tol, tol); };
+          pts.push_back(measure("odeint-dopri5", "adaptive", "tol", a, P, tol, [=](bool mm) {
+            return mm ? run_odeint_structure<true>(dopri, a, q0, p0, T, windows)
+                      : run_odeint_structure<false>(dopri, a, q0, p0, T, windows);
+          }, reps));
+          pts.push_back(measure("odeint-bulirsch-stoer", "adaptive", "tol", a, P, tol, [=](bool mm) {
+            return mm ? run_odeint_structure<true>(bs, a, q0, p0, T, windows)
+                      : run_odeint_structure<false>(bs, a, q0, p0, T, windows);
+          }, reps));
+          pts.push_back(measure("gsl-rk8pd", "adaptive", "tol", a, P, tol, [=](bool mm) {
+            return mm ? run_gsl_rk8pd_structure<true>(tol, a, q0, p0, T, windows)
+                      : run_gsl_rk8pd_structure<false>(tol, a, q0, p0, T, windows);
+          }, reps));
+        }
+      }
+
+    const Params params{{"problem", "damped oscillator q'' = -q - alpha q'"}, {"alpha", format_list(alphas)},
+                        {"periods", format_list(periods)}, {"q0", format_number(q0)}, {"p0", format_number(p0)},
+                        {"m", format_list(ms) + " (steps per period, h = 2 pi/m)"}, {"tol", format_list(tols) + " (abs = rel)"},
+                        {"window_periods", format_number(window_periods)}, {"reps", std::to_string(reps)},
+                        {"measures", "decay_err = |alpha_fit - alpha|/alpha (log Q, Q = q^2 + alpha q p + p^2); freq_err = "
+                                     "|omega_fit - omega|/omega; phase_err = |theta(T) - theta(0) - omega T| rad; balance_err = "
+                                     "max_k |E_k - E_k+1 - W_k|/E_k (W: trapezoid on the steps for geometric schemes, "
+                                     "W' = alpha p^2 integrated by the method for rk4/adaptive)"}};
+    TsvWriter data(dir / "long_horizon_oscillator.tsv", "long_horizon_oscillator", params,
+                   {"method", "family", "alpha", "periods", "knob", "value", "steps", "decay_err", "freq_err", "phase_err", "balance_err"});
+    TsvWriter tim(dir / "long_horizon_oscillator_timings.tsv", "long_horizon_oscillator", params,
+                  {"method", "family", "alpha", "periods", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
+    for (const auto& p : pts) {
+      const double w = std::sqrt(1 - p.alpha * p.alpha / 4);
+      data.row(p.method, p.family, p.alpha, p.periods, p.knob, p.value, p.s.steps, rel(p.s.decay_rate, p.alpha),
+               rel(p.s.frequency, w), std::abs(p.s.phase_end), p.s.balance);
+      tim.row(p.method, p.family, p.alpha, p.periods, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
+    }
+    data.commit();
+    tim.commit();
+
+    // Everything below is read back from the files just written.
+    const auto d = plots::read_tsv(dir / "long_horizon_oscillator.tsv");
+    const auto tt = plots::read_tsv(dir / "long_horizon_oscillator_timings.tsv");
+    const long_horizon::Table table{d, tt, "alpha", "periods"};
+    std::vector<long_horizon::Measure> measures;
+    for (const auto& M : kMeasures) measures.push_back({M.column, M.label, M.target});
+    long_horizon::summarise(table, measures, dir / "long_horizon_oscillator_summary.tsv", "long_horizon_oscillator", params);
+    long_horizon::draw(table, measures, format_number(periods.back()),
+                       "Damped oscillator over " + format_number(periods.back()) +
+                           " periods: structural error against CPU time (median)",
+                       dir / "long_horizon_oscillator");
+    return 0;
+  });
+}
