@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <functional>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -118,6 +119,12 @@ int main(int argc, char** argv) {
     require_finite(q0, "q0");
     require_finite(p0, "p0");
     require(q0 != 0 || p0 != 0, "q0 and p0 are both zero: nothing to measure");
+    // Infeasible work refused before it starts: periods x m steps per fixed-step run, for every scheme and alpha.
+    for (double P : periods)
+      for (double m : ms) {
+        check_steps(P * m, "periods x m = " + show(P) + " x " + show(m));
+        plan_steps(P * m * static_cast<double>(alphas.size()) * 4, "the runs (schemes x alpha x periods x m)");
+      }
     require(std::isfinite(window_periods) && window_periods >= 1 && window_periods == std::round(window_periods),
             "window-periods must be a whole number >= 1, got " + show(window_periods));
     for (double P : periods)
