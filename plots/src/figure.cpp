@@ -14,6 +14,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gnuplot-iostream.h>
+
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 
@@ -223,6 +225,20 @@ bool complete(const fs::path& file, const std::string& ext) {
   return t.find("%%EOF") != std::string::npos;
 }
 
+// The inline data of one series: its columns as binary records appended to `data`, and the '-' clause that
+// tells gnuplot their format and count (gnuplot-iostream writes both; `records` overrides the count, e.g.
+// "nx,ny" for a grid).
+template <class Columns>
+std::string inline_binary(const Columns& columns, std::string& data, const std::string& records = "") {
+  namespace gio = gnuplotio;
+  std::ostringstream fmt, size, blob;
+  gio::top_level_array_sender(fmt, columns, gio::Mode1D(), gio::ModeBinfmt());
+  gio::top_level_array_sender(size, columns, gio::Mode1D(), gio::ModeSize());
+  gio::top_level_array_sender(blob, columns, gio::Mode1D(), gio::ModeBinary());
+  data += blob.str();
+  return "'-' binary record=(" + (records.empty() ? size.str() : records) + ") format='" + fmt.str() + "'";
+}
+
 std::string render_script(const Figure& fig, const std::string& terminal, const std::string& output_name) {
   // Drop points a panel cannot show: non-finite ones (a failed run is a missing point, never a NaN in a
   // figure), and non-positive ones on a log axis.
@@ -265,24 +281,19 @@ std::string render_script(const Figure& fig, const std::string& terminal, const 
     data.clear();
     for (const auto& s : p.series) {
       if (s.x.empty()) continue;  // every point of this series failed
-      // Points go inline as binary records (x varying fastest for heat maps, nx per row).
-      std::vector<double> rec;
+      // Points go inline as binary records (x varying fastest for heat maps, nx per row), serialized by
+      // gnuplot-iostream; only the record size of a heat map is ours.
       std::string fmt;
       if (!s.z.empty()) {
         const std::size_t nx = grid_nx(s);
-        fmt = "'-' binary record=(" + std::to_string(nx) + "," + std::to_string(s.z.size() / nx) +
-              ") format='%float64%float64%float64' using 1:2:3 with ";
-        for (std::size_t i = 0; i < s.z.size(); ++i) rec.insert(rec.end(), {s.x[i], s.y[i], s.z[i]});
+        fmt = inline_binary(std::make_tuple(s.x, s.y, s.z), data,
+                            std::to_string(nx) + "," + std::to_string(s.z.size() / nx)) + " using 1:2:3 with ";
       } else if (!s.ylow.empty()) {
-        fmt = "'-' binary record=" + std::to_string(s.x.size()) +
-              " format='%float64%float64%float64%float64' using 1:2:3:4 with ";
-        for (std::size_t i = 0; i < s.x.size(); ++i) rec.insert(rec.end(), {s.x[i], s.y[i], s.ylow[i], s.yhigh[i]});
+        fmt = inline_binary(std::make_tuple(s.x, s.y, s.ylow, s.yhigh), data) + " using 1:2:3:4 with ";
       } else {
-        fmt = "'-' binary record=" + std::to_string(s.x.size()) + " format='%float64%float64' using 1:2 with ";
-        for (std::size_t i = 0; i < s.x.size(); ++i) rec.insert(rec.end(), {s.x[i], s.y[i]});
+        fmt = inline_binary(std::make_tuple(s.x, s.y), data) + " using 1:2 with ";
       }
       cmd += (any ? ", " : "") + fmt + s.style + (s.title.empty() ? std::string(" notitle") : " title " + quote(s.title));
-      data.append(reinterpret_cast<const char*>(rec.data()), rec.size() * sizeof(double));
       any = true;
     }
     const bool had_series = !p.series.empty();
