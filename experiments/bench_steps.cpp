@@ -18,6 +18,7 @@
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/foucault.hpp"
+#include "geomint/gsl_evolve.hpp"
 #include "geomint/fp_env.hpp"
 #include "geomint/integrate.hpp"
 #include "geomint/io.hpp"
@@ -128,18 +129,13 @@ int main(int argc, char** argv) {
     auto gsl_run = [&](size_t* count) {
       double a = alpha;
       gsl_odeiv2_system gs{gsl_rhs, nullptr, 2, &a};
-      gsl_odeiv2_step* st = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 2);
-      gsl_odeiv2_control* c = gsl_odeiv2_control_y_new(tol, tol);
-      gsl_odeiv2_evolve* ev = gsl_odeiv2_evolve_alloc(2);
+      GslEvolve gsl(gsl_odeiv2_step_rk8pd, 2, tol, tol);
       double t = 0, dt = 0.01, y[2] = {-0.25, 0.75};
       size_t n = 0;
       while (t < Tad) {
-        if (gsl_odeiv2_evolve_apply(ev, c, st, &gs, &t, Tad, &dt, y) != GSL_SUCCESS) break;
+        if (gsl.apply(gs, t, Tad, dt, y) != GSL_SUCCESS) break;
         ++n;
       }
-      gsl_odeiv2_evolve_free(ev);
-      gsl_odeiv2_control_free(c);
-      gsl_odeiv2_step_free(st);
       do_not_optimize(y[0]);
       if (count) *count = n;
     };

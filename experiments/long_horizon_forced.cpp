@@ -28,6 +28,8 @@
 
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
+#include "geomint/gsl_evolve.hpp"
+#include "geomint/long_horizon.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/registry.hpp"
@@ -108,23 +110,9 @@ template <class Stepper>
 Fit controlled_run(Stepper st, const Rhs& f, State2 x, double T, double omega, bool measure) {
   SteadyFit fit(omega, T / 2);
   const OdeRhs rhs{&f};
-  double t = 0, dt = 0.01;
-  long steps = 0, fails = 0;
-  while (t < T) {
-    const bool last = dt >= T - t;
-    double dt_try = last ? T - t : dt;
-    if (st.try_step(rhs, x, t, dt_try) == odeint::success) {
-      ++steps;
-      fails = 0;
-      if (last) t = T;
-      dt = dt_try;
-      if (measure) fit.point(t, x[0]);
-    } else {
-      dt = dt_try;
-      if (++fails > 1000) throw NumericalFailure(steps, "step size", "no acceptable step at t = " + show(t));
-    }
-    if (!std::isfinite(x[0])) throw NumericalFailure(steps, "state", "non-finite state at t = " + show(t));
-  }
+  const long steps = controlled_steps(st, rhs, x, T, [&](double t, const State2& s) {
+    if (measure) fit.point(t, s[0]);
+  });
   do_not_optimize(x[0]);
   return measure ? fit.result(steps) : Fit{};
 }
@@ -137,23 +125,11 @@ int gsl_rhs(double t, const double y[], double dydt[], void* params) {
 Fit rk8pd_run(const Rhs& f, State2 x0, double tol, double T, double omega, bool measure) {
   SteadyFit fit(omega, T / 2);
   gsl_odeiv2_system sys{gsl_rhs, nullptr, 2, const_cast<Rhs*>(&f)};
-  gsl_odeiv2_step* st = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 2);
-  gsl_odeiv2_control* c = gsl_odeiv2_control_y_new(tol, tol);
-  gsl_odeiv2_evolve* ev = gsl_odeiv2_evolve_alloc(2);
-  struct Free {
-    gsl_odeiv2_step* s;
-    gsl_odeiv2_control* c;
-    gsl_odeiv2_evolve* e;
-    ~Free() {
-      gsl_odeiv2_evolve_free(e);
-      gsl_odeiv2_control_free(c);
-      gsl_odeiv2_step_free(s);
-    }
-  } guard{st, c, ev};
+  GslEvolve gsl(gsl_odeiv2_step_rk8pd, 2, tol, tol);
   double t = 0, dt = 0.01, y[2] = {x0[0], x0[1]};
   long steps = 0;
   while (t < T) {
-    if (gsl_odeiv2_evolve_apply(ev, c, st, &sys, &t, T, &dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
+    if (gsl.apply(sys, t, T, dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
       throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
     ++steps;
     if (measure) fit.point(t, y[0]);

@@ -35,6 +35,8 @@
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/foucault.hpp"
+#include "geomint/gsl_evolve.hpp"
+#include "geomint/long_horizon.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/timing.hpp"
@@ -164,23 +166,9 @@ Structure controlled_run(const FoucaultScene& sc, Stepper st, double T, bool mea
   State4 x{q0(0), q0(1), v0(0), v0(1)};
   Probe probe(p);
   if (measure) probe.point(0, q0, v0);
-  double t = 0, dt = 0.01;
-  long steps = 0, fails = 0;
-  while (t < T) {
-    const bool last = dt >= T - t;
-    double dt_try = last ? T - t : dt;
-    if (st.try_step(f, x, t, dt_try) == odeint::success) {
-      ++steps;
-      fails = 0;
-      if (last) t = T;
-      dt = dt_try;
-      if (measure) probe.point(t, Vec2<double>(x[0], x[1]), Vec2<double>(x[2], x[3]));
-    } else {
-      dt = dt_try;
-      if (++fails > 1000) throw NumericalFailure(steps, "step size", "no acceptable step at t = " + show(t));
-    }
-    if (!std::isfinite(x[0]) || !std::isfinite(x[1])) throw NumericalFailure(steps, "state", "non-finite state at t = " + show(t));
-  }
+  const long steps = controlled_steps(st, f, x, T, [&](double t, const State4& s) {
+    if (measure) probe.point(t, Vec2<double>(s[0], s[1]), Vec2<double>(s[2], s[3]));
+  });
   do_not_optimize(x[0]);
   return measure ? probe.result(steps) : Structure{};
 }
@@ -199,25 +187,13 @@ Structure rk8pd_run(const FoucaultScene& sc, double tol, double T, bool measure)
   FoucaultMultiplierOde f(p);
   const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
   gsl_odeiv2_system sys{gsl_rhs, nullptr, 4, &f};
-  gsl_odeiv2_step* st = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 4);
-  gsl_odeiv2_control* c = gsl_odeiv2_control_y_new(1e-8 * tol, tol);
-  gsl_odeiv2_evolve* ev = gsl_odeiv2_evolve_alloc(4);
-  struct Free {
-    gsl_odeiv2_step* s;
-    gsl_odeiv2_control* c;
-    gsl_odeiv2_evolve* e;
-    ~Free() {
-      gsl_odeiv2_evolve_free(e);
-      gsl_odeiv2_control_free(c);
-      gsl_odeiv2_step_free(s);
-    }
-  } guard{st, c, ev};
+  GslEvolve gsl(gsl_odeiv2_step_rk8pd, 4, 1e-8 * tol, tol);
   double t = 0, dt = 0.01, y[4] = {q0(0), q0(1), v0(0), v0(1)};
   long steps = 0;
   Probe probe(p);
   if (measure) probe.point(0, q0, v0);
   while (t < T) {
-    if (gsl_odeiv2_evolve_apply(ev, c, st, &sys, &t, T, &dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
+    if (gsl.apply(sys, t, T, dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
       throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
     ++steps;
     if (measure) probe.point(t, Vec2<double>(y[0], y[1]), Vec2<double>(y[2], y[3]));

@@ -21,6 +21,7 @@
 
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
+#include "geomint/gsl_evolve.hpp"
 #include "geomint/integrate.hpp"
 #include "geomint/io.hpp"
 #include "geomint/record.hpp"
@@ -101,13 +102,11 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
   auto run = [&](bool measure) {
     double a = alpha;
     gsl_odeiv2_system sys{gsl_rhs, nullptr, 2, &a};
-    gsl_odeiv2_step* st = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 2);
-    gsl_odeiv2_control* c = gsl_odeiv2_control_y_new(tol, tol);
-    gsl_odeiv2_evolve* ev = gsl_odeiv2_evolve_alloc(2);
+    GslEvolve gsl(gsl_odeiv2_step_rk8pd, 2, tol, tol);
     double t = 0, dt = 0.01, y[2] = {q0, p0};
     long n = 0;
     while (t < T) {
-      if (gsl_odeiv2_evolve_apply(ev, c, st, &sys, &t, T, &dt, y) != GSL_SUCCESS) {
+      if (gsl.apply(sys, t, T, dt, y) != GSL_SUCCESS) {
         err = std::nan("");  // a failed run is a missing point
         break;
       }
@@ -115,9 +114,6 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
       if (measure) err = std::max(err, std::abs(y[0] - oscillator_exact(alpha, q0, p0, t).q));
     }
     if (measure) steps = n;
-    gsl_odeiv2_evolve_free(ev);
-    gsl_odeiv2_control_free(c);
-    gsl_odeiv2_step_free(st);
     do_not_optimize(y[0]);
   };
   run(true);

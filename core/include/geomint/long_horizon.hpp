@@ -35,6 +35,7 @@
 #include <gsl/gsl_odeiv2.h>
 
 #include "geomint/error.hpp"
+#include "geomint/gsl_evolve.hpp"
 #include "geomint/oscillator.hpp"
 #include "geomint/timing.hpp"
 
@@ -247,6 +248,33 @@ OscillatorStructure run_rk4_structure(double alpha, double q0, double p0, double
   return Measure ? probe.result(N) : OscillatorStructure{};
 }
 
+// Drives an Odeint controlled stepper by try_step from t = 0 to T, its last step shortened to land on T, and
+// calls on_step(t, x) after every accepted step; returns the number of accepted steps. Throws NumericalFailure
+// (with the step) when no step is accepted in 1000 tries or the state stops being finite.
+template <class Stepper, class Rhs, class State, class OnStep>
+long controlled_steps(Stepper& st, const Rhs& rhs, State& x, double T, OnStep&& on_step) {
+  namespace odeint = boost::numeric::odeint;
+  double t = 0, dt = 0.01;
+  long steps = 0, fails = 0;
+  while (t < T) {
+    const bool last = dt >= T - t;
+    double dt_try = last ? T - t : dt;
+    if (st.try_step(rhs, x, t, dt_try) == odeint::success) {
+      ++steps;
+      fails = 0;
+      if (last) t = T;
+      dt = dt_try;
+      on_step(t, x);
+    } else {
+      dt = dt_try;
+      if (++fails > 1000) throw NumericalFailure(steps, "step size", "no acceptable step at t = " + show(t));
+    }
+    for (const double xi : x)
+      if (!std::isfinite(xi)) throw NumericalFailure(steps, "state", "non-finite state at t = " + show(t));
+  }
+  return steps;
+}
+
 // An Odeint controlled stepper (dopri5, Bulirsch–Stoer, ...) driven by try_step, hitting every
 // window boundary exactly (a step that would cross it is shortened; the step size suggested before the
 // shortening is kept afterwards). make() builds a fresh stepper.
@@ -310,19 +338,7 @@ OscillatorStructure run_gsl_rk8pd_structure(double tol, double alpha, double q0,
   OscillatorProbe probe(alpha, T);
   double a = alpha;
   gsl_odeiv2_system sys{detail::gsl_osc_work_rhs, nullptr, 3, &a};
-  gsl_odeiv2_step* st = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 3);
-  gsl_odeiv2_control* c = gsl_odeiv2_control_y_new(tol, tol);
-  gsl_odeiv2_evolve* ev = gsl_odeiv2_evolve_alloc(3);
-  struct Free {
-    gsl_odeiv2_step* s;
-    gsl_odeiv2_control* c;
-    gsl_odeiv2_evolve* e;
-    ~Free() {
-      gsl_odeiv2_evolve_free(e);
-      gsl_odeiv2_control_free(c);
-      gsl_odeiv2_step_free(s);
-    }
-  } guard{st, c, ev};
+  GslEvolve gsl(gsl_odeiv2_step_rk8pd, 3, tol, tol);
   double t = 0, dt = 0.01, y[3] = {q0, p0, 0};
   int scale = 0;
   long steps = 0;
@@ -331,7 +347,7 @@ OscillatorStructure run_gsl_rk8pd_structure(double tol, double alpha, double q0,
     const double tb = k == windows ? T : T * static_cast<double>(k) / static_cast<double>(windows);
     y[2] = 0;
     while (t < tb) {
-      if (gsl_odeiv2_evolve_apply(ev, c, st, &sys, &t, tb, &dt, y) != GSL_SUCCESS || !std::isfinite(y[0]) ||
+      if (gsl.apply(sys, t, tb, dt, y) != GSL_SUCCESS || !std::isfinite(y[0]) ||
           !std::isfinite(y[1]))
         throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
       ++steps;
@@ -343,8 +359,7 @@ OscillatorStructure run_gsl_rk8pd_structure(double tol, double alpha, double q0,
       y[0] = std::ldexp(y[0], sh);
       y[1] = std::ldexp(y[1], sh);
       scale -= sh;
-      gsl_odeiv2_evolve_reset(ev);
-      gsl_odeiv2_step_reset(st);
+      gsl.reset();
       if (Measure) probe.rescaled(sh);
     }
   }
