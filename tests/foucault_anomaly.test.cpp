@@ -322,7 +322,7 @@ TEST_CASE("long double and quad reruns give the same jump: it is the scheme, not
   CHECK(seg.summary.max.r_land == Approx(J.r_land).epsilon(1e-8));
 }
 
-TEST_CASE("ensemble: the time shift randomizes the landings; rotating or scaling q0 does not", "[foucault][ensemble]") {
+TEST_CASE("ensemble: the time shift randomizes the landings, rotating or scaling q0 does not", "[foucault][ensemble]") {
   // First half-swing only (100 steps, h = 0.1, crossing at 4.1 s): record every half-swing (threshold 0).
   // From the landing, where the crossing fell within its step: xi = distance of the grid point before the
   // crossing to the origin, in steps (landing before the origin: r_L / (r_prev - r_L); after: r_prev /

@@ -70,7 +70,7 @@ TEST_CASE("particle: the continuous reference keeps its constraint and loses ene
   CHECK_THROWS_AS((NonholonomicParticle{1, 1, -0.1}.validate()), InputError);
 }
 
-TEST_CASE("particle: the LA step is the fast path of the generic la scheme; equations from L and Phi",
+TEST_CASE("particle: the LA step is the fast path of the generic la scheme, equations from L and Phi",
           "[example][system][generic]") {
   systems::NonholonomicParticle sys;
   testing::check_all_fast_paths(sys, 0.05, 20000);

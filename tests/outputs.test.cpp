@@ -101,7 +101,7 @@ TEST_CASE("figures are drawn into hostile paths without gnuplot seeing them", "[
   CHECK(entries(base) == 1);  // nothing else created (BT, DS, SY)
 }
 
-TEST_CASE("a figure gnuplot cannot draw is an error with gnuplot's message; the old figure stays", "[outputs]") {
+TEST_CASE("a figure gnuplot cannot draw is an error with gnuplot's message, the old figure stays", "[outputs]") {
   const auto dir = fresh_dir("figure-error");
   std::ofstream(dir / "fig.png") << "old";
   auto f = small_figure();

@@ -297,7 +297,7 @@ fs::path small_tmpfs(const std::string& name, const char* size, std::string& why
 }
 }  // namespace
 
-TEST_CASE("probe: a full disk is an error; the old outputs stay and no temporary is left", "[probe]") {
+TEST_CASE("probe: a full disk is an error, the old outputs stay and no temporary is left", "[probe]") {
   for (const auto& c : table) {
     std::string why;
     const auto disk = small_tmpfs("probe-disk", "64k", why);

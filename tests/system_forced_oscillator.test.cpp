@@ -8,7 +8,7 @@
 using namespace geomint;
 using namespace geomint::testing;
 
-TEST_CASE("forced oscillator: equations from L, both forms; the closed form solves them", "[generic][equations]") {
+TEST_CASE("forced oscillator: equations from L, both forms, the closed form solves them", "[generic][equations]") {
   systems::ForcedOscillator f;
   check_equations(f);
   for (double t : {0.0, 3.3, 40.0}) check_exact_solves(f, t);

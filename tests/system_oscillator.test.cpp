@@ -43,7 +43,7 @@ TEST_CASE("oscillator closed forms (la, contact, la-midpoint, leapfrog, contact-
   }
 }
 
-TEST_CASE("oscillator: equations derived from L equal the hand-written ones; the closed form solves them",
+TEST_CASE("oscillator: equations derived from L equal the hand-written ones, the closed form solves them",
           "[generic][equations]") {
   check_equations(systems::Oscillator{});
   check_exact_solves(systems::Oscillator{}, 2.0);
