@@ -8,6 +8,9 @@ PACKAGES  := cmake make g++ git libeigen3-dev libgsl-dev libboost-dev libboost-p
              libgnuplot-iostream-dev gnuplot-nox libbenchmark-dev libopenmpi-dev openmpi-bin
 # Warnings are errors in CI.
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,)
+# The sanitizer build: -O1 with line tables only (what AddressSanitizer recommends) compiles the heavy AD
+# translation units in half the time of -O2 -g (148 s -> 71 s for one, measured) and keeps .ci/run under 30 min.
+SANITIZE_OPT := -O1 -g1 -DNDEBUG
 # Every figure and table with the paper's defaults, in this order.
 FIGURES   := fig1_oscillator convergence_oscillator backward_error work_precision stability_oscillator fig2_foucault convergence_foucault anomaly_foucault work_precision_foucault modified_equation modified_agreement nonholonomic_modified
 
@@ -84,7 +87,8 @@ bench: build
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps
-	@cmake -S . -B $(BUILD)-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEOMINT_SANITIZE=ON $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,) > /dev/null
+	@cmake -S . -B $(BUILD)-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo '-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$(SANITIZE_OPT)' \
+	  -DGEOMINT_SANITIZE=ON $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,) > /dev/null
 	@cmake --build $(BUILD)-sanitize -j$(JOBS)
 	@cd $(BUILD)-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j$(JOBS)
 
