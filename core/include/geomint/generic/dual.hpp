@@ -42,8 +42,10 @@ class Dual {
 
   Dual() = default;
   Dual(const T& x) : v(x) {}  // NOLINT: a constant converts implicitly, as for a built-in scalar
-  template <class U, std::enable_if_t<std::is_arithmetic_v<U> && !std::is_same_v<U, T>, int> = 0>
-  Dual(U x) : v(static_cast<T>(x)) {}  // NOLINT
+  // Any other constant the value type is made from: a built-in number, or a system parameter of a symbolic
+  // type (a formula times a dual, in a system templated on its parameter type).
+  template <class U, std::enable_if_t<!std::is_same_v<U, T> && !is_dual<U>::value && std::is_constructible_v<T, const U&>, int> = 0>
+  Dual(const U& x) : v(static_cast<T>(x)) {}  // NOLINT
 
   // The independent variable number i (0 <= i < N) at value x.
   static Dual variable(const T& x, int i) {

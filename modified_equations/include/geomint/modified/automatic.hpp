@@ -28,7 +28,14 @@
 // initial point; the other rows make the modified flow keep Phi_h constant.
 // `check` re-evaluates the residual with every coefficient in place and returns the largest coefficient of
 // total degree <= K that should vanish (a self-test of the structure above, at round-off).
+//
+// One engine, two coefficient types: with C = double (the default) everything above is numbers at a point;
+// with a computer-algebra C (symbolic.hpp: GiNaC::ex) the point (t, q, v, z) and the system's parameters are
+// symbols and the same operations return F_k, Z_k, mu_k, phi_k as formulas. The small linear systems are then
+// solved exactly (solve_linear below) and each solved coefficient is simplified as it is found (per order and
+// per coefficient: the next orders are built from it, so swell is stopped where it starts).
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -48,19 +55,36 @@ inline double binomial(int m, int j) {
   return b;
 }
 
-template <int n, int m, int Kmax>
+// The exact value of an integer-valued (or dyadic) double in the coefficient type.
+template <class C>
+C exact(double x) {
+  return CoefficientTraits<C>::from_number(x);
+}
+
+// A x = b for the engine's small systems: LU with partial pivoting in double, the CAS's exact solve otherwise
+// (CoefficientTraits<C>::solve).
+template <class C, int N>
+Vec<C, N> solve_linear(const Mat<C, N, N>& A, const Vec<C, N>& b) {
+  if constexpr (std::is_same_v<C, double>)
+    return Eigen::PartialPivLU<Mat<double, N, N>>(A).solve(b);
+  else
+    return CoefficientTraits<C>::template solve<N>(A, b);
+}
+
+template <int n, int m, int Kmax, class C = double>
 struct ModifiedCoefficients {
   int K = 0;
-  std::array<Vec<double, n>, Kmax + 1> F{};      // q'' = sum h^k F[k]
-  std::array<double, Kmax + 1> Z{};              // z'  = sum h^k Z[k] (contact)
-  std::array<Vec<double, m>, Kmax + 1> mu{};     // multiplier (impulse / h) = sum h^k mu[k]
-  std::array<Vec<double, m>, Kmax + 3> phi{};    // modified constraint Phi_h = sum h^k phi[k] (k <= K + o)
-  std::array<Vec<double, m>, Kmax + 3> phi_dot{};// holonomic only: its time derivative along the flow
+  std::array<Vec<C, n>, Kmax + 1> F{};      // q'' = sum h^k F[k]
+  std::array<C, Kmax + 1> Z{};              // z'  = sum h^k Z[k] (contact)
+  std::array<Vec<C, m>, Kmax + 1> mu{};     // multiplier (impulse / h) = sum h^k mu[k]
+  std::array<Vec<C, m>, Kmax + 3> phi{};    // modified constraint Phi_h = sum h^k phi[k] (k <= K + o)
+  std::array<Vec<C, m>, Kmax + 3> phi_dot{};// holonomic only: its time derivative along the flow
   // Taylor coefficients of the modified solution through the point: q~(t + s) = sum_m c[m] s^m,
   // c[m] = sum_i c_coef[m][i] h^i (m <= K + 2, i <= K); the same for z~.
-  std::array<std::array<Vec<double, n>, Kmax + 1>, Kmax + 3> c{};
-  std::array<std::array<double, Kmax + 1>, Kmax + 3> d{};
-  double residual = std::numeric_limits<double>::quiet_NaN();  // set by check
+  std::array<std::array<Vec<C, n>, Kmax + 1>, Kmax + 3> c{};
+  std::array<std::array<C, Kmax + 1>, Kmax + 3> d{};
+  double residual = std::numeric_limits<double>::quiet_NaN();  // set by check (numbers only)
+  bool stopped = false;  // the deadline passed before order K (formulas): K is the order reached
 
   // Eigen's fixed-size vectors are not zeroed by value-initialization: every coefficient starts at 0 here.
   ModifiedCoefficients() {
@@ -70,11 +94,12 @@ struct ModifiedCoefficients {
     for (auto& x : phi_dot) x.setZero();
     for (auto& row : c)
       for (auto& x : row) x.setZero();
-    for (auto& row : d) row.fill(0.0);
+    for (auto& row : d) row.fill(C(0));
+    Z.fill(C(0));
   }
 };
 
-template <class Sys, class Scheme, int Kmax = 6>
+template <class Sys, class Scheme, int Kmax = 6, class C = double>
 class ModifiedEquation {
  public:
   static constexpr int n = Sys::dof, m = Sys::constraints;
@@ -83,15 +108,19 @@ class ModifiedEquation {
   static constexpr int o = holonomic ? 2 : 1;  // constraint row paired with G row j: j + o
   static constexpr int E = Kmax + (m > 0 ? o : 0);
   static constexpr int U = Kmax + 3;
-  using S = BiSeries<E, U, 2>;
+  using S = BiSeries<E, U, 2, C>;
   using Quad = typename Scheme::quadrature;
-  using Result = ModifiedCoefficients<n, m, Kmax>;
+  using Result = ModifiedCoefficients<n, m, Kmax, C>;
+  using coefficient = C;
 
   explicit ModifiedEquation(const Sys& sys) : sys_(sys) {}
   const Sys& system() const { return sys_; }
+  // A formula can take long (expression swell): the orders stop being built once `deadline` has passed, and
+  // the result says so (Result::stopped, Result::K the order reached). Numbers never look at the clock.
+  void set_deadline(std::chrono::steady_clock::time_point deadline) { deadline_ = deadline; }
 
   // F_0..F_K (and Z, mu, phi) at (t, q, v, z). K <= Kmax.
-  void evaluate(double t, const Vec<double, n>& q, const Vec<double, n>& v, double z, int K, Result& out,
+  void evaluate(const C& t, const Vec<C, n>& q, const Vec<C, n>& v, const C& z, int K, Result& out,
                 bool check = false) const {
     if (K < 0 || K > Kmax) throw std::invalid_argument("modified equation order K must be in [0, " + std::to_string(Kmax) + "]");
     out = Result{};
@@ -105,59 +134,67 @@ class ModifiedEquation {
 
     // Weight 0, and the probes J, K0, P (the residual is affine in the weight-0 unknowns at degree 0).
     Rows base = rows(t, out, l, 0);
-    Mat<double, n, n> J;
-    Mat<double, n, m> K0;
-    Mat<double, m, n> P;
+    Mat<C, n, n> J;
+    Mat<C, n, m> K0;
+    Mat<C, m, n> P;
     for (int r = 0; r < n; ++r) {
-      out.c[2][0](r) = 1;
+      out.c[2][0](r) = C(1);
       const Rows pr = rows(t, out, l, 0);
-      out.c[2][0](r) = 0;
-      for (int i = 0; i < n; ++i) J(i, r) = pr.G[i].coeff(0, 0) - base.G[i].coeff(0, 0);
-      for (int c = 0; c < m; ++c) P(c, r) = (pr.Phi[c].coeff(o, 0) - base.Phi[c].coeff(o, 0)) / binomial(2, o);
+      out.c[2][0](r) = C(0);
+      for (int i = 0; i < n; ++i) J(i, r) = Tr::simplify(pr.G[i].coeff(0, 0) - base.G[i].coeff(0, 0));
+      for (int c = 0; c < m; ++c)
+        P(c, r) = Tr::simplify((pr.Phi[c].coeff(o, 0) - base.Phi[c].coeff(o, 0)) / exact<C>(binomial(2, o)));
     }
     for (int r = 0; r < m; ++r) {
-      l[0][0](r) = 1;
+      l[0][0](r) = C(1);
       const Rows pr = rows(t, out, l, 0);
-      l[0][0](r) = 0;
-      for (int i = 0; i < n; ++i) K0(i, r) = pr.G[i].coeff(0, 0) - base.G[i].coeff(0, 0);
+      l[0][0](r) = C(0);
+      for (int i = 0; i < n; ++i) K0(i, r) = Tr::simplify(pr.G[i].coeff(0, 0) - base.G[i].coeff(0, 0));
     }
     // z enters the q rows at the same degree only if L_q'z != 0 (not for L - alpha z): probe it.
     bool z_couples = false;
     if constexpr (contact) {
-      out.d[1][0] = 1;
+      out.d[1][0] = C(1);
       const Rows pr = rows(t, out, l, 0);
-      out.d[1][0] = 0;
+      out.d[1][0] = C(0);
       for (int i = 0; i < n; ++i)
-        if (pr.G[i].coeff(0, 0) != base.G[i].coeff(0, 0)) z_couples = true;
+        if (!Tr::is_zero(Tr::simplify(pr.G[i].coeff(0, 0) - base.G[i].coeff(0, 0)))) z_couples = true;
     }
 
     for (int W = 0; W <= K; ++W) {
+      if constexpr (!std::is_same_v<C, double>) {
+        if (W > 0 && std::chrono::steady_clock::now() > deadline_) {
+          K = out.K = W - 1;
+          out.stopped = true;
+          break;
+        }
+      }
       Rows R = W == 0 ? base : rows(t, out, l, W);
       if constexpr (contact) {
         for (int j = W; j >= 0; --j) {
-          double g = known(R.Gz, j, W - j);
-          for (int mm = j + 2; mm <= W + 1; ++mm) g += binomial(mm, j) * out.d[mm][W + 1 - mm];
-          out.d[j + 1][W - j] = -g / (j + 1);
+          C g = known(R.Gz, j, W - j);
+          for (int mm = j + 2; mm <= W + 1; ++mm) g += exact<C>(binomial(mm, j)) * out.d[mm][W + 1 - mm];
+          out.d[j + 1][W - j] = Tr::simplify(-g / exact<C>(j + 1));
         }
         if (z_couples) R = rows(t, out, l, W);  // the q rows with this weight's z coefficients in place
       }
       for (int j = W; j >= 0; --j) {
-        Vec<double, n> g;
+        Vec<C, n> g;
         for (int i = 0; i < n; ++i) g(i) = known(R.G[i], j, W - j);
-        for (int mm = j + 4; mm <= W + 2; mm += 2) g += J * (binomial(mm, j) * out.c[mm][W + 2 - mm]);
+        for (int mm = j + 4; mm <= W + 2; mm += 2) g += J * (exact<C>(binomial(mm, j)) * out.c[mm][W + 2 - mm]);
         if constexpr (m == 0) {
-          out.c[j + 2][W - j] = -Eigen::PartialPivLU<Mat<double, n, n>>(J * binomial(j + 2, 2)).solve(g);
+          out.c[j + 2][W - j] = simplified<n>(-solve_linear<C, n>(J * exact<C>(binomial(j + 2, 2)), g));
         } else {
-          Vec<double, m> gp;
+          Vec<C, m> gp;
           for (int c = 0; c < m; ++c) gp(c) = known(R.Phi[c], j + o, W - j);
-          for (int mm = j + 3; mm <= W + 2; ++mm) gp += P * (binomial(mm, j + o) * out.c[mm][W + 2 - mm]);
-          Mat<double, n + m, n + m> KKT = Mat<double, n + m, n + m>::Zero();
-          KKT.template topLeftCorner<n, n>() = J * binomial(j + 2, 2);
+          for (int mm = j + 3; mm <= W + 2; ++mm) gp += P * (exact<C>(binomial(mm, j + o)) * out.c[mm][W + 2 - mm]);
+          Mat<C, n + m, n + m> KKT = Mat<C, n + m, n + m>::Zero();
+          KKT.template topLeftCorner<n, n>() = J * exact<C>(binomial(j + 2, 2));
           KKT.template topRightCorner<n, m>() = K0;
-          KKT.template bottomLeftCorner<m, n>() = P * binomial(j + 2, j + o);
-          Vec<double, n + m> rhs;
+          KKT.template bottomLeftCorner<m, n>() = P * exact<C>(binomial(j + 2, j + o));
+          Vec<C, n + m> rhs;
           rhs << g, gp;
-          const Vec<double, n + m> x = -Eigen::PartialPivLU<Mat<double, n + m, n + m>>(KKT).solve(rhs);
+          const Vec<C, n + m> x = simplified<n + m>(-solve_linear<C, n + m>(KKT, rhs));
           out.c[j + 2][W - j] = x.template head<n>();
           l[j][W - j] = x.template tail<m>();
         }
@@ -166,49 +203,46 @@ class ModifiedEquation {
         // the rows no unknown pins: the modified constraint, with this weight's coefficients added
         for (int row = 0; row < o; ++row) {
           const int deg = W + o;
-          Vec<double, m> ph;
+          Vec<C, m> ph;
           for (int c = 0; c < m; ++c) ph(c) = known(R.Phi[c], row, deg - row);
           for (int mm = 2; mm <= W + 2; ++mm)
-            if (mm - row >= (holonomic ? 0 : 1)) ph += P * (binomial(mm, row) * out.c[mm][W + 2 - mm]);
-          (row == 0 ? out.phi : out.phi_dot)[static_cast<std::size_t>(deg - row)] = ph;
+            if (mm - row >= (holonomic ? 0 : 1)) ph += P * (exact<C>(binomial(mm, row)) * out.c[mm][W + 2 - mm]);
+          (row == 0 ? out.phi : out.phi_dot)[static_cast<std::size_t>(deg - row)] = simplified<m>(ph);
         }
         if (W == 0) {  // lower degrees: already fixed by the point (Phi = A v + b; holonomic g, g_t + g_q v)
           for (int row = 0; row < o; ++row)
             for (int deg = row; deg < o; ++deg) {
-              Vec<double, m> ph;
+              Vec<C, m> ph;
               for (int c = 0; c < m; ++c) ph(c) = known(R.Phi[c], row, deg - row);
-              (row == 0 ? out.phi : out.phi_dot)[static_cast<std::size_t>(deg - row)] = ph;
+              (row == 0 ? out.phi : out.phi_dot)[static_cast<std::size_t>(deg - row)] = simplified<m>(ph);
             }
         }
       }
     }
     for (int k = 0; k <= K; ++k) {
-      out.F[k] = 2 * out.c[2][k];
+      out.F[k] = simplified<n>(exact<C>(2) * out.c[2][k]);
       out.Z[k] = out.d[1][k];
       if constexpr (m > 0) out.mu[k] = l[0][k];
     }
+    if constexpr (!std::is_same_v<C, double>) check = false;  // a formula is checked by the tests, not by size
     if (check) {
       const Rows R = rows(t, out, l, K);
       double worst = 0;
+      auto size = [](const C& x) {
+        if constexpr (std::is_same_v<C, double>)
+          return std::abs(x);
+        else
+          return 0.0;
+      };
       for (int j = 0; j <= K; ++j)
         for (int k = 0; j + k <= K; ++k) {
-          for (int i = 0; i < n; ++i) worst = std::max(worst, std::abs(known(R.G[i], j, k)));
-          if constexpr (contact) worst = std::max(worst, std::abs(known(R.Gz, j, k)));
+          for (int i = 0; i < n; ++i) worst = std::max(worst, size(known(R.G[i], j, k)));
+          if constexpr (contact) worst = std::max(worst, size(known(R.Gz, j, k)));
         }
       if constexpr (m > 0)
         for (int jj = o; jj <= K + o; ++jj)
           for (int k = 0; jj + k <= K + o; ++k)
-            for (int c = 0; c < m; ++c) worst = std::max(worst, std::abs(known(R.Phi[c], jj, k)));
-#ifdef GEOMINT_DEBUG_MODIFIED
-      for (int j = 0; j <= K; ++j)
-        for (int k = 0; j + k <= K; ++k) {
-          for (int i = 0; i < n; ++i) std::fprintf(stderr, "G%d[%d][%d] = %.3e  ", i, j, k, known(R.G[i], j, k));
-          std::fprintf(stderr, "\n");
-        }
-      if constexpr (m > 0)
-        for (int jj = 0; jj <= K + o; ++jj)
-          for (int k = 0; jj + k <= K + o; ++k) std::fprintf(stderr, "Phi[%d][%d] = %.3e\n", jj, k, known(R.Phi[0], jj, k));
-#endif
+            for (int c = 0; c < m; ++c) worst = std::max(worst, size(known(R.Phi[c], jj, k)));
       out.residual = worst;
     }
   }
@@ -249,8 +283,9 @@ class ModifiedEquation {
   // the modified equation. For the Stormer–Verlet and midpoint rules it is exactly the published
   // L + h^2/24 (U'^2 - 2 U'' q'^2) and L + h^2/24 (U'^2 + U'' q'^2) (tests). For contact schemes the modified
   // Herglotz Lagrangian is z' = sum_k h^k Z[k] itself.
-  std::array<double, Kmax + 1> mesh_lagrangian(double t, const Result& r) const {
-    std::array<double, Kmax + 1> out{};
+  std::array<C, Kmax + 1> mesh_lagrangian(const C& t, const Result& r) const {
+    std::array<C, Kmax + 1> out{};
+    out.fill(C(0));
     if constexpr (!contact) {
       const int K = r.K, pq = K + 3;
       Vec<S, n> Qm, Qp;
@@ -262,24 +297,25 @@ class ModifiedEquation {
       const S H = S::h();
       const S ell = Quad::action(sys_, S(S(t) + S::eps() - H * 0.5), H, Qm, Qp) * inverse(H);
       // (x/2)/sinh(x/2) = sum_r beta_r x^(2r): invert sinh(x/2)/(x/2) = sum_r (1/4)^r / (2r+1)!
-      std::array<double, Kmax / 2 + 2> beta{}, sh{};
+      std::array<C, Kmax / 2 + 2> beta{}, sh{};
       double f = 1;
       for (int i = 0; i < static_cast<int>(sh.size()); ++i) {
         if (i > 0) f *= (2.0 * i) * (2.0 * i + 1);
-        sh[static_cast<std::size_t>(i)] = std::pow(0.25, i) / f;
+        sh[static_cast<std::size_t>(i)] = exact<C>(std::pow(0.25, i)) / exact<C>(f);
       }
       for (std::size_t i = 0; i < beta.size(); ++i) {
-        double acc = i == 0 ? 1.0 : 0.0;
+        C acc = i == 0 ? C(1) : C(0);
         for (std::size_t k = 1; k <= i; ++k) acc -= sh[k] * beta[i - k];
         beta[i] = acc;
       }
       for (int k = 0; k <= K; ++k) {
-        double acc = 0, fact = 1;
+        C acc = C(0);
+        double fact = 1;
         for (int rr = 0; 2 * rr <= k; ++rr) {
           if (rr > 0) fact *= (2.0 * rr - 1) * (2.0 * rr);
-          acc += beta[static_cast<std::size_t>(rr)] * fact * known(ell, 2 * rr, k - 2 * rr);
+          acc += beta[static_cast<std::size_t>(rr)] * exact<C>(fact) * known(ell, 2 * rr, k - 2 * rr);
         }
-        out[static_cast<std::size_t>(k)] = acc;
+        out[static_cast<std::size_t>(k)] = Tr::simplify(acc);
       }
     } else {
       for (int k = 0; k <= r.K; ++k) out[static_cast<std::size_t>(k)] = r.Z[static_cast<std::size_t>(k)];
@@ -288,14 +324,21 @@ class ModifiedEquation {
   }
 
  private:
-  using Lambda = std::array<std::array<Vec<double, m>, Kmax + 1>, Kmax + 1>;
+  using Tr = CoefficientTraits<C>;
+  using Lambda = std::array<std::array<Vec<C, m>, Kmax + 1>, Kmax + 1>;
+
+  template <int N>
+  static Vec<C, N> simplified(Vec<C, N> x) {
+    for (int i = 0; i < N; ++i) x(i) = Tr::simplify(x(i));
+    return x;
+  }
   struct Rows {
     std::array<S, n> G;
     S Gz;
     std::array<S, m> Phi;
   };
 
-  static double known(const S& x, int j, int k) {
+  static C known(const S& x, int j, int k) {
     if (!x.known(j, k)) throw std::logic_error("modified equation: a needed series coefficient was lost to truncation");
     return x.coeff(j, k);
   }
@@ -307,21 +350,21 @@ class ModifiedEquation {
     r.p = p;
     for (int j = 0; j <= E; ++j)
       for (int k = 0; k <= U && j + k < p; ++k) {
-        double acc = 0;
+        C acc = C(0);
         for (int mm = j; mm <= M; ++mm) {
           const int i = k - (mm - j);
           if (i < 0 || i > Kc) continue;
           const double w = s == 0 ? (mm == j ? 1.0 : 0.0) : std::pow(s, mm - j) * binomial(mm, j);
-          if (w != 0) acc += w * x(mm, i);
+          if (w != 0) acc += exact<C>(w) * x(mm, i);
         }
-        r.at(j, k) = acc;
+        r.at(j, k) = Tr::normalize(acc);
       }
     r.fit();
     return r;
   }
 
   // The residual rows with the coefficients known so far, precise enough for the unknowns of weight W.
-  Rows rows(double t, const Result& c, const Lambda& l, int W) const {
+  Rows rows(const C& t, const Result& c, const Lambda& l, int W) const {
     const int K = Kmax;
     const int pq = W + 3, pz = W + 2, pl = W + 1;
     Vec<S, n> Qm, Q0, Qp;
@@ -334,7 +377,7 @@ class ModifiedEquation {
     Vec<S, m> Lam;
     for (int r = 0; r < m; ++r)
       Lam(r) = S::h() * shifted(0, K, K, pl, [&](int mm, int k) {
-                 return mm <= K ? l[static_cast<std::size_t>(mm)][static_cast<std::size_t>(k)](r) : 0.0;
+                 return mm <= K ? l[static_cast<std::size_t>(mm)][static_cast<std::size_t>(k)](r) : C(0);
                });
     const S T = S(t) + S::eps(), H = S::h();
     const S invH = inverse(H);
@@ -357,6 +400,7 @@ class ModifiedEquation {
   }
 
   Sys sys_;
+  std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
 };
 
 }  // namespace geomint::modified

@@ -23,6 +23,13 @@
 // Math functions (sin, cos, exp, log, sqrt, pow) compose a univariate Taylor expansion at the constant term
 // with the nilpotent rest; they need no negative powers of h (a system's L, F, Phi evaluated at points).
 // Comparisons look at the constant term (branches follow the h -> 0, eps = 0 path).
+//
+// The coefficient type C is a parameter: double (the numbers, as always: the same operations in the same order,
+// so the same bits), or a computer-algebra expression (geomint/modified/symbolic.hpp: GiNaC::ex), which turns the
+// same engine into one that returns formulas. What the series needs of C beyond + - * / is in
+// CoefficientTraits<C>: a zero test (the sparsity boxes and the precision rules read it, so a CAS type must
+// keep its coefficients in a canonical form where zero is structurally zero — `normalize`, applied to every
+// coefficient a product computes), and an exact conversion of the integers and dyadic constants the code writes.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -35,24 +42,44 @@ namespace geomint::modified {
 
 inline constexpr int series_exact = 1 << 20;  // precision of an exact series (constants, monomials)
 
-template <int E, int U, int L = 2>
+// What the series needs of its coefficient type (specialized for a CAS type in symbolic.hpp).
+template <class C>
+struct CoefficientTraits;
+template <>
+struct CoefficientTraits<double> {
+  static bool is_zero(double c) { return c == 0; }
+  template <class X>
+  static double from_number(X x) {
+    return static_cast<double>(x);
+  }
+  static double normalize(double c) { return c; }  // after each product: the canonical form of a coefficient
+  static double simplify(double c) { return c; }   // after each solve: the compact form of a solved coefficient
+};
+
+template <int E, int U, int L = 2, class C = double>
 class BiSeries {
+  using Tr = CoefficientTraits<C>;
+  // A scalar that mixes with a series: a built-in number (converted exactly) or a coefficient.
+  template <class X>
+  using if_scalar = std::enable_if_t<std::is_arithmetic_v<X> || std::is_same_v<X, C>, int>;
+
  public:
   static constexpr int NE = E + 1, NH = L + U + 1;
   static constexpr int eps_order = E, h_max = U, h_min = -L;
+  using coefficient = C;
 
-  std::array<double, NE * NH> a{};
+  std::array<C, NE * NH> a{};
   int p = series_exact;
   // A box [0, j1] x [k0, k1] outside which every coefficient is zero: the loops run over it only, so the cost
   // follows the coefficients in use (few at low order) rather than the storage.
   int j1 = -1, k0 = 0, k1 = -1;
 
   BiSeries() = default;
-  BiSeries(double x) : j1(0), k0(0), k1(0) { a[L] = x; }  // NOLINT: constants convert implicitly
-  template <class I, std::enable_if_t<std::is_arithmetic_v<I> && !std::is_same_v<I, double>, int> = 0>
-  BiSeries(I x) : BiSeries(static_cast<double>(x)) {}  // NOLINT
+  BiSeries(const C& x) : j1(0), k0(0), k1(0) { a[L] = x; }  // NOLINT: constants convert implicitly
+  template <class I, std::enable_if_t<std::is_arithmetic_v<I> && !std::is_same_v<I, C>, int> = 0>
+  BiSeries(I x) : BiSeries(Tr::from_number(x)) {}  // NOLINT
 
-  static BiSeries monomial(int j, int k, double c = 1) {
+  static BiSeries monomial(int j, int k, const C& c = C(1)) {
     BiSeries r;
     r.at(j, k) = c;
     r.j1 = j;
@@ -62,12 +89,12 @@ class BiSeries {
   static BiSeries h() { return monomial(0, 1); }
   static BiSeries eps() { return monomial(1, 0); }
 
-  double& at(int j, int k) { return a[static_cast<std::size_t>(j * NH + k + L)]; }
-  double at(int j, int k) const { return a[static_cast<std::size_t>(j * NH + k + L)]; }
+  C& at(int j, int k) { return a[static_cast<std::size_t>(j * NH + k + L)]; }
+  const C& at(int j, int k) const { return a[static_cast<std::size_t>(j * NH + k + L)]; }
   // The coefficient of eps^j h^k, or 0 outside the storage.
-  double coeff(int j, int k) const { return (j < 0 || j > E || k < -L || k > U) ? 0.0 : at(j, k); }
+  C coeff(int j, int k) const { return (j < 0 || j > E || k < -L || k > U) ? C(0) : at(j, k); }
   bool known(int j, int k) const { return j >= 0 && j <= E && k >= -L && k <= U && j + k < p; }
-  double value() const { return at(0, 0); }
+  C value() const { return at(0, 0); }
 
   // After writing coefficients with at(): the tight box.
   void fit() {
@@ -76,7 +103,7 @@ class BiSeries {
     k1 = -L - 1;
     for (int j = 0; j <= E; ++j)
       for (int k = -L; k <= U; ++k)
-        if (at(j, k) != 0) {
+        if (!Tr::is_zero(at(j, k))) {
           j1 = j;
           k0 = std::min(k0, k);
           k1 = std::max(k1, k);
@@ -96,7 +123,7 @@ class BiSeries {
     Span s;
     for (int j = 0; j <= j1; ++j)
       for (int k = k0; k <= k1; ++k)
-        if (at(j, k) != 0) {
+        if (!Tr::is_zero(at(j, k))) {
           s.kmin = std::min(s.kmin, k);
           s.kmax = std::max(s.kmax, k);
           s.dmin = std::min(s.dmin, j + k);
@@ -108,11 +135,11 @@ class BiSeries {
   void clip() {
     if (p >= series_exact) return;
     for (int j = 0; j <= j1; ++j)
-      for (int k = std::max(k0, p - j); k <= k1; ++k) at(j, k) = 0;
+      for (int k = std::max(k0, p - j); k <= k1; ++k) at(j, k) = C(0);
   }
 
-  BiSeries& operator+=(const BiSeries& b) { return accumulate(b, 1.0); }
-  BiSeries& operator-=(const BiSeries& b) { return accumulate(b, -1.0); }
+  BiSeries& operator+=(const BiSeries& b) { return accumulate(b, false); }
+  BiSeries& operator-=(const BiSeries& b) { return accumulate(b, true); }
   BiSeries& operator*=(const BiSeries& b) { return *this = *this * b; }
   BiSeries& operator/=(const BiSeries& b) { return *this = *this / b; }
 
@@ -124,18 +151,40 @@ class BiSeries {
   }
   friend BiSeries operator+(BiSeries x, const BiSeries& y) { return x += y; }
   friend BiSeries operator-(BiSeries x, const BiSeries& y) { return x -= y; }
-  friend BiSeries operator+(BiSeries x, double c) { return x += BiSeries(c); }
-  friend BiSeries operator+(double c, BiSeries x) { return x += BiSeries(c); }
-  friend BiSeries operator-(BiSeries x, double c) { return x -= BiSeries(c); }
-  friend BiSeries operator-(double c, const BiSeries& x) { return BiSeries(c) -= x; }
-  friend BiSeries operator*(BiSeries x, double c) {
-    if (c == 0) return BiSeries(0.0);
-    for (int j = 0; j <= x.j1; ++j)
-      for (int k = x.k0; k <= x.k1; ++k) x.at(j, k) *= c;
-    return x;
+  // Mixed with a scalar: templates, so that an int or a double meets no ambiguity between the conversions to
+  // C and to BiSeries when C is a class type.
+  template <class X, if_scalar<X> = 0>
+  friend BiSeries operator+(BiSeries x, const X& c) {
+    return x += BiSeries(c);
   }
-  friend BiSeries operator*(double c, const BiSeries& x) { return x * c; }
-  friend BiSeries operator/(const BiSeries& x, double c) { return x * (1 / c); }
+  template <class X, if_scalar<X> = 0>
+  friend BiSeries operator+(const X& c, BiSeries x) {
+    return x += BiSeries(c);
+  }
+  template <class X, if_scalar<X> = 0>
+  friend BiSeries operator-(BiSeries x, const X& c) {
+    return x -= BiSeries(c);
+  }
+  template <class X, if_scalar<X> = 0>
+  friend BiSeries operator-(const X& c, const BiSeries& x) {
+    return BiSeries(c) -= x;
+  }
+  template <class X, if_scalar<X> = 0>
+  friend BiSeries operator*(BiSeries x, const X& c) {
+    return x.scaled(to_coefficient(c));
+  }
+  template <class X, if_scalar<X> = 0>
+  friend BiSeries operator*(const X& c, const BiSeries& x) {
+    return BiSeries(x).scaled(to_coefficient(c));
+  }
+  template <class X, if_scalar<X> = 0>
+  friend BiSeries operator/(const BiSeries& x, const X& c) {
+    return BiSeries(x).scaled(C(1) / to_coefficient(c));
+  }
+  template <class X, if_scalar<X> = 0>
+  friend BiSeries operator/(const X& c, const BiSeries& x) {
+    return BiSeries(c) / x;
+  }
 
   friend BiSeries operator*(const BiSeries& x, const BiSeries& y) {
     const Span sx = x.span(), sy = y.span();
@@ -156,11 +205,11 @@ class BiSeries {
     r.k1 = std::min(U, sx.kmax + sy.kmax);
     for (int j = 0; j <= r.j1; ++j)
       for (int k = r.k0; k <= r.k1 && j + k < r.p; ++k) {
-        double s = 0;
+        C s = C(0);
         const int k1lo = std::max(sx.kmin, k - sy.kmax), k1hi = std::min(sx.kmax, k - sy.kmin);
         for (int ja = std::max(0, j - y.j1); ja <= std::min(j, x.j1); ++ja)
           for (int ka = k1lo; ka <= k1hi; ++ka) s += x.at(ja, ka) * y.at(j - ja, k - ka);
-        r.at(j, k) = s;
+        r.at(j, k) = Tr::normalize(s);
       }
     return r;
   }
@@ -168,7 +217,7 @@ class BiSeries {
   // 1/y for y = h^v (y00 + ...), y00 != 0.
   friend BiSeries inverse(const BiSeries& y) {
     const Span s = y.span();
-    if (s.zero() || y.at(0, s.kmin) == 0)
+    if (s.zero() || Tr::is_zero(y.at(0, s.kmin)))
       throw std::domain_error("BiSeries: division by a series without an invertible leading term");
     const int v = s.kmin;
     if (-v < -L) throw std::domain_error("BiSeries: a power of h below the Laurent window");
@@ -177,29 +226,29 @@ class BiSeries {
     const bool monomial = s.kmax == v && y.j1 == 0;
     const int top = U + v;  // the highest power of 1/yt that fits after the shift by h^{-v}
     const int pc = monomial ? pt : std::min(pt, top + 1);  // an infinite series is truncated at the window
-    const double y00 = y.at(0, v);
+    const C y00 = y.at(0, v);
     BiSeries r;
     if (monomial) {
-      r = monomial_of(0, -v, 1 / y00);
+      r = monomial_of(0, -v, Tr::normalize(C(1) / y00));
     } else {
       // ct[j][k] in lexicographic order: yt00 ct_jk = delta - sum_{(j',k') != (0,0)} yt_j'k' ct_{j-j',k-k'}
-      std::array<double, NE * NH> ct{};
-      auto C = [&](int j, int k) -> double& { return ct[static_cast<std::size_t>(j * NH + k)]; };
+      std::array<C, NE * NH> ct{};
+      auto Ct = [&](int j, int k) -> C& { return ct[static_cast<std::size_t>(j * NH + k)]; };
       const int kspan = std::min(top, NH - 1);
       for (int j = 0; j <= E; ++j)
         for (int k = 0; k <= kspan && j + k < pc; ++k) {
-          double acc = (j == 0 && k == 0) ? 1.0 : 0.0;
+          C acc = (j == 0 && k == 0) ? C(1) : C(0);
           for (int ja = 0; ja <= std::min(j, y.j1); ++ja)
             for (int ka = 0; ka <= std::min(k, s.kmax - v); ++ka) {
               if (ja == 0 && ka == 0) continue;
-              const double yv = y.at(ja, ka + v);
-              if (yv != 0) acc -= yv * C(j - ja, k - ka);
+              const C& yv = y.at(ja, ka + v);
+              if (!Tr::is_zero(yv)) acc -= yv * Ct(j - ja, k - ka);
             }
-          C(j, k) = acc / y00;
+          Ct(j, k) = Tr::normalize(acc / y00);
         }
       for (int j = 0; j <= E; ++j)
         for (int k = 0; k <= kspan && j + k < pc; ++k)
-          if (k - v >= -L && k - v <= U) r.at(j, k - v) = C(j, k);
+          if (k - v >= -L && k - v <= U) r.at(j, k - v) = Ct(j, k);
       r.fit();
     }
     r.p = pc >= series_exact ? series_exact : pc - v;
@@ -214,7 +263,7 @@ class BiSeries {
     const Span s = x.span();
     if (!s.zero() && s.kmin < 0) throw std::domain_error("BiSeries: function of a series with negative powers of h");
     BiSeries u = x;
-    u.at(0, 0) = 0;  // nilpotent: every term has total degree >= 1
+    u.at(0, 0) = C(0);  // nilpotent: every term has total degree >= 1
     if (u.span().zero()) {  // a constant
       BiSeries r(coef(0));
       r.p = x.p;
@@ -232,28 +281,38 @@ class BiSeries {
   }
 
   friend BiSeries sin(const BiSeries& x) {
-    const double s = std::sin(x.value()), c = std::cos(x.value());
-    return compose(x, [&](int r) { return (r % 4 == 0 ? s : r % 4 == 1 ? c : r % 4 == 2 ? -s : -c) / factorial(r); });
+    using std::cos;
+    using std::sin;
+    const C s = sin(x.value()), c = cos(x.value());
+    return compose(x, [&](int r) -> C { return (r % 4 == 0 ? s : r % 4 == 1 ? c : r % 4 == 2 ? -s : -c) / factorial(r); });
   }
   friend BiSeries cos(const BiSeries& x) {
-    const double s = std::sin(x.value()), c = std::cos(x.value());
-    return compose(x, [&](int r) { return (r % 4 == 0 ? c : r % 4 == 1 ? -s : r % 4 == 2 ? -c : s) / factorial(r); });
+    using std::cos;
+    using std::sin;
+    const C s = sin(x.value()), c = cos(x.value());
+    return compose(x, [&](int r) -> C { return (r % 4 == 0 ? c : r % 4 == 1 ? -s : r % 4 == 2 ? -c : s) / factorial(r); });
   }
   friend BiSeries exp(const BiSeries& x) {
-    const double e = std::exp(x.value());
-    return compose(x, [&](int r) { return e / factorial(r); });
+    using std::exp;
+    const C e = exp(x.value());
+    return compose(x, [&](int r) -> C { return e / factorial(r); });
   }
   friend BiSeries log(const BiSeries& x) {
-    const double x0 = x.value();
-    return compose(x, [&](int r) { return r == 0 ? std::log(x0) : ((r % 2 ? 1.0 : -1.0) / (r * std::pow(x0, r))); });
+    using std::log;
+    using std::pow;
+    const C x0 = x.value();
+    return compose(x, [&](int r) -> C {
+      return r == 0 ? C(log(x0)) : C(Tr::from_number(r % 2 ? 1.0 : -1.0) / (Tr::from_number(r) * pow(x0, Tr::from_number(r))));
+    });
   }
   friend BiSeries pow(const BiSeries& x, double e) {
-    const double x0 = x.value();
+    using std::pow;
+    const C x0 = x.value(), ce = Tr::from_number(e);
     // f_r = x0^e binom(e, r) / x0^r
-    return compose(x, [&](int r) {
-      double b = 1;
-      for (int i = 0; i < r; ++i) b *= (e - i) / (i + 1);
-      return std::pow(x0, e - r) * b;
+    return compose(x, [&](int r) -> C {
+      C b = C(1);
+      for (int i = 0; i < r; ++i) b *= (ce - Tr::from_number(i)) / Tr::from_number(i + 1);
+      return pow(x0, C(ce - Tr::from_number(r))) * b;
     });
   }
   friend BiSeries sqrt(const BiSeries& x) { return pow(x, 0.5); }
@@ -273,8 +332,22 @@ class BiSeries {
   friend bool operator!=(const BiSeries& x, const BiSeries& y) { return !(x == y); }
 
  private:
-  static BiSeries monomial_of(int j, int k, double c) { return monomial(j, k, c); }
-  BiSeries& accumulate(const BiSeries& b, double sign) {
+  static BiSeries monomial_of(int j, int k, const C& c) { return monomial(j, k, c); }
+  template <class X>
+  static C to_coefficient(const X& c) {
+    if constexpr (std::is_same_v<X, C>)
+      return c;
+    else
+      return Tr::from_number(c);
+  }
+  // x c, coefficient by coefficient (c = 0 gives the exact zero constant).
+  BiSeries& scaled(const C& c) {
+    if (Tr::is_zero(c)) return *this = BiSeries(C(0));
+    for (int j = 0; j <= j1; ++j)
+      for (int k = k0; k <= k1; ++k) at(j, k) = Tr::normalize(at(j, k) * c);
+    return *this;
+  }
+  BiSeries& accumulate(const BiSeries& b, bool subtract) {
     if (b.j1 >= 0) {
       if (j1 < 0) {
         j1 = b.j1;
@@ -286,25 +359,30 @@ class BiSeries {
         k1 = std::max(k1, b.k1);
       }
       for (int j = 0; j <= b.j1; ++j)
-        for (int k = b.k0; k <= b.k1; ++k) at(j, k) += sign * b.at(j, k);
+        for (int k = b.k0; k <= b.k1; ++k) {
+          if (subtract)
+            at(j, k) -= b.at(j, k);
+          else
+            at(j, k) += b.at(j, k);
+        }
     }
     p = std::min(p, b.p);
     clip();
     return *this;
   }
-  static double factorial(int r) {
+  static C factorial(int r) {
     double f = 1;
     for (int i = 2; i <= r; ++i) f *= i;
-    return f;
+    return Tr::from_number(f);
   }
 };
 
 }  // namespace geomint::modified
 
 namespace Eigen {
-template <int E, int U, int L>
-struct NumTraits<geomint::modified::BiSeries<E, U, L>> : NumTraits<double> {
-  using Real = geomint::modified::BiSeries<E, U, L>;
+template <int E, int U, int L, class C>
+struct NumTraits<geomint::modified::BiSeries<E, U, L, C>> : NumTraits<double> {
+  using Real = geomint::modified::BiSeries<E, U, L, C>;
   using NonInteger = Real;
   using Nested = Real;
   using Literal = Real;
@@ -318,12 +396,12 @@ struct NumTraits<geomint::modified::BiSeries<E, U, L>> : NumTraits<double> {
     MulCost = (E + 1) * (E + 1) * (L + U + 1) * (L + U + 1)
   };
 };
-template <int E, int U, int L, class Op>
-struct ScalarBinaryOpTraits<geomint::modified::BiSeries<E, U, L>, double, Op> {
-  using ReturnType = geomint::modified::BiSeries<E, U, L>;
+template <int E, int U, int L, class C, class Op>
+struct ScalarBinaryOpTraits<geomint::modified::BiSeries<E, U, L, C>, double, Op> {
+  using ReturnType = geomint::modified::BiSeries<E, U, L, C>;
 };
-template <int E, int U, int L, class Op>
-struct ScalarBinaryOpTraits<double, geomint::modified::BiSeries<E, U, L>, Op> {
-  using ReturnType = geomint::modified::BiSeries<E, U, L>;
+template <int E, int U, int L, class C, class Op>
+struct ScalarBinaryOpTraits<double, geomint::modified::BiSeries<E, U, L, C>, Op> {
+  using ReturnType = geomint::modified::BiSeries<E, U, L, C>;
 };
 }  // namespace Eigen
