@@ -5,7 +5,8 @@ OUT       ?= out
 JOBS      ?= $(shell nproc 2>/dev/null || echo 2)
 PACKAGES  := cmake make g++ git libeigen3-dev libgsl-dev libboost-dev libboost-program-options-dev \
              libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev catch2 \
-             libgnuplot-iostream-dev gnuplot-nox libbenchmark-dev libopenmpi-dev openmpi-bin
+             libgnuplot-iostream-dev gnuplot-nox libbenchmark-dev libopenmpi-dev openmpi-bin libginac-dev \
+             pkg-config python3-sympy
 # Warnings are errors in CI.
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,)
 # The sanitizer build: -O1 with line tables only (what AddressSanitizer recommends) compiles the heavy AD

@@ -43,6 +43,23 @@ struct ModifiedAgreement {
                            // start's continuous momentum along A^T)
 };
 
+// The modified equation as formulas (one row per quantity and order), printed three ways: `text` (sympy's
+// sympify reads it: '^' powers, exact rationals a/b, sin(q)), `mathematica` (ToExpression reads it: Sin[q]) and
+// `latex`. Symbols: t, h, z, q (qN for component N of several), qdot (qdotN), and the system's parameters by
+// their command-line names (a name sympy or Mathematica reserve, such as I, gets a trailing 'p').
+struct FormulaRow {
+  std::string quantity;  // F<i>, Z, mu<c>, phi<c>, L (modified Lagrangian), Fmod<i> (modified force)
+  int k = 0;             // the power of h
+  std::string text, mathematica, latex;
+};
+struct ModifiedFormulas {
+  int K_asked = 0, K = 0;  // the order asked and the order reached within the budget
+  bool stopped = false;
+  double seconds = 0, budget = 0;
+  std::vector<std::string> symbols;  // every symbol a formula may use
+  std::vector<FormulaRow> rows;
+};
+
 struct ModifiedSystem {
   std::string name;
   int dof = 0, constraints = 0;
@@ -59,6 +76,9 @@ struct ModifiedSystem {
                                  double tol) = nullptr;
   // The shooting start alone: v~(0) with q~(0) = q_0, q~(h) = q_1.
   std::vector<double> (*shoot)(const ParamValues&, const std::string& scheme, int K, double h, double tol) = nullptr;
+  // The modified equation of `scheme` as formulas to order K, every parameter a symbol, within a time budget
+  // (seconds); InputError for a system that has no symbolic parameter type.
+  ModifiedFormulas (*formulas)(const std::string& scheme, int K, double budget_seconds) = nullptr;
 };
 
 const std::vector<ModifiedSystem>& all_modified_systems();

@@ -1,0 +1,134 @@
+#pragma once
+// GiNaC expressions as the coefficient type of the series engine (series.hpp, automatic.hpp): the same residual
+// templates that step a scheme and give its modified equation in numbers give it as formulas, in t, q, q' (and
+// z), with the system's parameters as symbols.
+//
+// Why GiNaC: it is a C++ library (the residual templates are C++ and must run unchanged on the coefficient
+// type), it is in Debian 12's main archive (libginac-dev; SymEngine, the other C++ CAS, is not packaged there),
+// and it has what the engine needs: exact rationals, sin/cos/exp/log of symbols, canonical sums and products,
+// normal forms of rational functions, exact linear solves, differentiation. A hand-written polynomial type would
+// stop at the pendulum's sin q.
+//
+// Canonical forms. The series decides which coefficients are zero structurally (its sparsity boxes and its
+// precision rules read them), so every coefficient a product computes is expanded (`normalize`): polynomials in
+// the atoms (symbols, sin q, cos q, powers of a denominator) are then canonical, and x - x is 0. A solved
+// coefficient is brought to a normal form (`simplify`: numerator and denominator, with cos^2 written as
+// 1 - sin^2 so that sin^2 + cos^2 = 1 is an identity the CAS sees) before the next order is built on it.
+//
+// Heavy (GiNaC's headers): included by the symbolic translation units and tests only, never by a program.
+#include <chrono>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <ginac/ginac.h>
+
+#include <Eigen/Core>
+
+#include "geomint/generic/dual.hpp"
+#include "geomint/generic/system.hpp"
+#include "geomint/modified/series.hpp"
+
+namespace geomint::modified {
+
+// The exact rational value of a finite double (every finite double is a dyadic rational): constants the code
+// writes as doubles (0.5, 0.25, binomials) enter a formula exactly.
+GiNaC::ex exact_rational(double x);
+// cos(x)^k -> cos(x)^(k mod 2) (1 - sin(x)^2)^(k div 2), expanded: the canonical form in which
+// sin^2 + cos^2 - 1 simplifies to 0.
+GiNaC::ex reduce_trigonometric(const GiNaC::ex& e);
+// normal form (numerator/denominator, trigonometric squares reduced): what the engine keeps of each solved
+// coefficient.
+GiNaC::ex simplify_coefficient(const GiNaC::ex& e);
+
+template <>
+struct CoefficientTraits<GiNaC::ex> {
+  static bool is_zero(const GiNaC::ex& c) { return c.is_zero(); }
+  template <class X>
+  static GiNaC::ex from_number(X x) {
+    if constexpr (std::is_integral_v<X>)
+      return GiNaC::ex(static_cast<long>(x));
+    else
+      return exact_rational(static_cast<double>(x));
+  }
+  static GiNaC::ex normalize(const GiNaC::ex& c) { return c.expand(); }
+  static GiNaC::ex simplify(const GiNaC::ex& c) { return simplify_coefficient(c); }
+  template <int N>
+  static Vec<GiNaC::ex, N> solve(const Mat<GiNaC::ex, N, N>& A, const Vec<GiNaC::ex, N>& b) {
+    GiNaC::matrix M(N, N), rhs(N, 1), x(N, 1);
+    GiNaC::lst vars;
+    for (int i = 0; i < N; ++i) {
+      for (int k = 0; k < N; ++k) M(i, k) = A(i, k);
+      rhs(i, 0) = b(i);
+      x(i, 0) = GiNaC::symbol();
+    }
+    const GiNaC::matrix s = M.solve(x, rhs);
+    Vec<GiNaC::ex, N> out;
+    for (int i = 0; i < N; ++i) out(i) = s(i, 0);
+    return out;
+  }
+};
+
+// The symbols of a formula: time, the step, the state, and the names the printers give them.
+struct FormulaSymbols {
+  GiNaC::symbol t{"t"}, h{"h"}, z{"z"};
+  std::vector<GiNaC::symbol> q, v;  // positions and velocities q'
+  std::vector<GiNaC::symbol> params;
+  explicit FormulaSymbols(int n);
+  // A parameter's symbol, made once per name (reserved names of sympy or Mathematica get a trailing 'p').
+  GiNaC::symbol param(const std::string& name);
+  GiNaC::lst all() const;  // every symbol, for a parser's table
+};
+
+// The name a formula prints for a system parameter (a name sympy or Mathematica reserve gets a trailing 'p').
+std::string printed_symbol_name(const std::string& name);
+
+// Printers. `text`: sympy reads it with sympify (powers as '^', which sympify's default convert_xor reads;
+// names as in FormulaSymbols), Mathematica with ToExpression after the function names are capitalized — which
+// `mathematica` does: Sin[q], exact rationals a/b in both. `latex`: GiNaC's LaTeX printer (\frac, \dot{q}).
+std::string formula_text(const GiNaC::ex& e);
+std::string formula_mathematica(const GiNaC::ex& e);
+std::string formula_latex(const GiNaC::ex& e);
+
+// sum_k h^k c_k, each c_k in display form: normal form, trigonometric squares reduced, common factors
+// collected (collect_common_factors), so the printed formula reads one power of h per term.
+GiNaC::ex collect_in_h(const std::vector<GiNaC::ex>& coefficients, const GiNaC::symbol& h);
+GiNaC::ex display_form(const GiNaC::ex& e);
+
+// A time budget for one symbolic run (the orders stop being built once it is spent; the run says so).
+struct SymbolicBudget {
+  double seconds = 60;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
+  bool spent() const { return elapsed() > seconds; }
+};
+
+}  // namespace geomint::modified
+
+namespace Eigen {
+template <>
+struct NumTraits<GiNaC::ex> : GenericNumTraits<GiNaC::ex> {
+  using Real = GiNaC::ex;
+  using NonInteger = GiNaC::ex;
+  using Nested = GiNaC::ex;
+  using Literal = GiNaC::ex;
+  enum { IsComplex = 0, IsInteger = 0, IsSigned = 1, RequireInitialization = 1, ReadCost = 1, AddCost = 3, MulCost = 3 };
+};
+// A symbolic parameter times a vector of series or duals (a system's -(alpha m) v).
+template <int E, int U, int L, class Op>
+struct ScalarBinaryOpTraits<GiNaC::ex, geomint::modified::BiSeries<E, U, L, GiNaC::ex>, Op> {
+  using ReturnType = geomint::modified::BiSeries<E, U, L, GiNaC::ex>;
+};
+template <int E, int U, int L, class Op>
+struct ScalarBinaryOpTraits<geomint::modified::BiSeries<E, U, L, GiNaC::ex>, GiNaC::ex, Op> {
+  using ReturnType = geomint::modified::BiSeries<E, U, L, GiNaC::ex>;
+};
+template <class T, int N, class Op>
+struct ScalarBinaryOpTraits<GiNaC::ex, geomint::Dual<T, N>, Op> {
+  using ReturnType = geomint::Dual<T, N>;
+};
+template <class T, int N, class Op>
+struct ScalarBinaryOpTraits<geomint::Dual<T, N>, GiNaC::ex, Op> {
+  using ReturnType = geomint::Dual<T, N>;
+};
+}  // namespace Eigen

@@ -1,0 +1,131 @@
+#pragma once
+// The symbolic modified equations of one system: the engine (automatic.hpp) with GiNaC coefficients, for every
+// applicable scheme, on the system's symbolic instantiation SysT<GiNaC::ex> (a system header templated on its
+// parameter type; Sys = SysT<double>), every parameter a symbol. Heavy: included only by the generated symbolic
+// translation units (modified_equations/src/symbolic_instance.cpp.in) and by tests.
+#include <string>
+#include <vector>
+
+#include "geomint/error.hpp"
+#include "geomint/generic/system_info.hpp"
+#include "geomint/modified/automatic.hpp"
+#include "geomint/modified/automatic_registry.hpp"
+#include "geomint/modified/symbolic.hpp"
+
+namespace geomint::modified {
+
+// The symbolic instantiation of a system: SysT<GiNaC::ex> for Sys = SysT<double>; unavailable for a system
+// whose header is not (yet) templated on its parameter type.
+template <class Sys>
+struct SymbolicOf {
+  static constexpr bool available = false;
+};
+template <template <class> class SysT>
+struct SymbolicOf<SysT<double>> {
+  static constexpr bool available = true;
+  using type = SysT<GiNaC::ex>;
+};
+
+// Every parameter of the system a symbol named as on the command line.
+template <class SymSys>
+SymSys symbolic_system(FormulaSymbols& sy) {
+  SymSys sys;
+  sys.visit([&](const char* name, GiNaC::ex& field, const char*) { field = sy.param(name); });
+  return sys;
+}
+
+// The modified force of an LA scheme: with the modified Lagrangian L_mod = sum_k h^k L_k (the meshed
+// Lagrangian, a function of t, q, q'), the force that makes its Euler–Lagrange equations the modified equation,
+//   F_mod = d/dt (dL_mod/dq') - dL_mod/dq   along q'' = sum_k h^k F_k,   truncated after h^K.
+// Zero (to that order) for a conservative variational scheme: Vermeeren's theorem, checked by the tests.
+std::vector<std::vector<GiNaC::ex>> modified_force(const std::vector<GiNaC::ex>& L,
+                                                   const std::vector<std::vector<GiNaC::ex>>& F,
+                                                   const FormulaSymbols& sy);
+
+// The formulas of one scheme on the symbolic system, to order K within the budget.
+struct SymbolicResult {
+  int K = 0;             // the order reached (< the order asked if the budget ran out)
+  bool stopped = false;  // the budget ran out before the order asked
+  int n = 0, m = 0, o = 1;
+  bool contact = false, holonomic = false, has_lagrangian = false;
+  std::vector<std::vector<GiNaC::ex>> F, mu, phi, Fmod;  // [k][component]
+  std::vector<GiNaC::ex> Z, L;                           // [k]
+};
+
+template <class SymSys, class G, int Kmax>
+SymbolicResult symbolic_modified(const SymSys& sys, const FormulaSymbols& sy, int K, const SymbolicBudget& budget) {
+  using GiNaC::ex;
+  using Engine = ModifiedEquation<SymSys, G, Kmax, ex>;
+  constexpr int n = SymSys::dof, m = SymSys::constraints;
+  Engine me(sys);
+  me.set_deadline(budget.start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(budget.seconds)));
+  Vec<ex, n> q, v;
+  for (int i = 0; i < n; ++i) {
+    q(i) = sy.q[static_cast<std::size_t>(i)];
+    v(i) = sy.v[static_cast<std::size_t>(i)];
+  }
+  typename Engine::Result r;
+  me.evaluate(sy.t, q, v, sy.z, K, r);
+  SymbolicResult out;
+  out.K = r.K;
+  out.stopped = r.stopped;
+  out.n = n;
+  out.m = m;
+  out.o = Engine::o;
+  out.contact = G::contact;
+  out.holonomic = Engine::holonomic;
+  for (int k = 0; k <= r.K; ++k) {
+    std::vector<ex> f, mu;
+    for (int i = 0; i < n; ++i) f.push_back(r.F[static_cast<std::size_t>(k)](i));
+    for (int c = 0; c < m; ++c) mu.push_back(r.mu[static_cast<std::size_t>(k)](c));
+    out.F.push_back(f);
+    out.mu.push_back(mu);
+    out.Z.push_back(r.Z[static_cast<std::size_t>(k)]);
+  }
+  if constexpr (m > 0) {
+    for (int k = 0; k <= r.K + Engine::o; ++k) {
+      std::vector<ex> ph;
+      for (int c = 0; c < m; ++c) ph.push_back(r.phi[static_cast<std::size_t>(k)](c));
+      out.phi.push_back(ph);
+    }
+  }
+  if constexpr (m == 0 && !G::contact) {
+    if (!r.stopped && !budget.spent()) {
+      const auto lag = me.mesh_lagrangian(sy.t, r);
+      for (int k = 0; k <= r.K; ++k) out.L.push_back(lag[static_cast<std::size_t>(k)]);
+      out.has_lagrangian = true;
+      out.Fmod = modified_force(out.L, out.F, sy);
+    }
+  }
+  return out;
+}
+
+// The rows the registry hands to programs (strings: programs never see GiNaC).
+ModifiedFormulas formula_rows(const SymbolicResult& r, const FormulaSymbols& sy);
+
+template <class Sys>
+ModifiedFormulas symbolic_formulas(const std::string& scheme, int K, double budget_seconds) {
+  if constexpr (!SymbolicOf<Sys>::available) {
+    (void)scheme;
+    (void)K;
+    (void)budget_seconds;
+    throw InputError(std::string("system '") + Sys::name + "' has no symbolic parameter type yet (formulas need its header templated on it)");
+  } else {
+    using SymSys = typename SymbolicOf<Sys>::type;
+    require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
+    return generic::visit_scheme<Sys>(scheme, [&](auto g) {
+      const SymbolicBudget budget{budget_seconds};
+      FormulaSymbols sy(Sys::dof);
+      const SymSys sys = symbolic_system<SymSys>(sy);
+      const SymbolicResult r = symbolic_modified<SymSys, decltype(g), registry_max_order>(sys, sy, K, budget);
+      ModifiedFormulas f = formula_rows(r, sy);
+      f.K_asked = K;
+      f.seconds = budget.elapsed();
+      f.budget = budget_seconds;
+      return f;
+    });
+  }
+}
+
+}  // namespace geomint::modified
