@@ -10,8 +10,18 @@
 // modified (meshed) Lagrangian of an unconstrained LA scheme, mu<c> the multiplier, phi<c> the modified
 // constraint, residual
 // the self-check: the largest residual coefficient that must vanish) and prints it as a table.
+// With --formulas it also derives the same quantities as formulas (the engine with GiNaC coefficients; every
+// parameter a symbol, the point (t, q, q', z) symbolic too) within --budget seconds per scheme, and writes
+//   out/modified_equation_formulas.txt  tab-separated: system, scheme, quantity, k, text, mathematica — the
+//       coefficient of h^k (k = "sum": the whole series sum_k h^k c_k); `text` is read by sympy's sympify
+//       ('^' powers, which sympify's default convert_xor reads; exact rationals a/b; sin(q)), `mathematica` by
+//       ToExpression (Sin[q]); the '#' header lists the symbols,
+//   out/modified_equation_formulas.tex  the same as LaTeX (align* blocks; '%' header lines),
+// and prints the series. A scheme whose budget runs out is written to the order it reached, and says so.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,12 +55,85 @@ ParamValues parse_params(const std::vector<std::string>& items) {
   return out;
 }
 
+// sum_k h^k c_k in one line, from the coefficients' printed forms (zero terms left out).
+std::string series_text(const std::vector<std::string>& c, bool latex) {
+  std::string s;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (c[k] == "0") continue;
+    std::string h = k == 0 ? "" : (k == 1 ? "h" : (latex ? "h^{" : "h^") + std::to_string(k) + (latex ? "}" : ""));
+    std::string term = k == 0 ? c[k] : (latex ? h + "\\left(" + c[k] + "\\right)" : h + "*(" + c[k] + ")");
+    s += s.empty() ? term : " + " + term;
+  }
+  return s.empty() ? "0" : s;
+}
+
 double param_value(const SystemInfo& info, const ParamValues& pv, const std::string& name) {
   for (const auto& [k, x] : pv)
     if (k == name) return x;
   for (const auto& p : info.params)
     if (p.name == name) return p.value;
   return std::nan("");
+}
+
+void write_formulas(const std::filesystem::path& dir, const std::string& system, const std::vector<std::string>& schemes,
+                    Params header, const std::vector<ModifiedFormulas>& forms) {
+  header.emplace_back("formulas", "the same engine with GiNaC coefficients: parameters and the point (t, q, qdot, z) symbolic");
+  header.emplace_back("syntax", "text: sympy.sympify (powers '^', exact rationals a/b); mathematica: ToExpression");
+  // every symbol of every scheme's formulas: t, h, z, the positions, the velocities, then the parameters
+  std::vector<std::string> symbols;
+  for (const auto& f : forms)
+    for (const auto& n : f.symbols)
+      if (std::find(symbols.begin(), symbols.end(), n) == symbols.end()) symbols.push_back(n);
+  auto rank = [](const std::string& n) {
+    return n == "t" ? 0 : n == "h" ? 1 : n == "z" ? 2 : n.rfind("qdot", 0) == 0 ? 4 : n[0] == 'q' ? 3 : 5;
+  };
+  std::stable_sort(symbols.begin(), symbols.end(), [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+  header.emplace_back("symbols", join_names(symbols));
+  for (std::size_t s = 0; s < schemes.size(); ++s) {
+    const auto& f = forms[s];
+    char line[200];
+    std::snprintf(line, sizeof line, "order %d of %d in %.2f s (budget %g s)%s", f.K, f.K_asked, f.seconds, f.budget,
+                  f.stopped ? ": stopped by the budget" : "");
+    header.emplace_back("formulas " + schemes[s], line);
+    if (f.stopped)
+      std::fprintf(stderr, "modified_equation: the formulas of %s stopped at order %d of %d: the budget of %g s ran out\n",
+                   schemes[s].c_str(), f.K, f.K_asked, f.budget);
+  }
+  TsvWriter txt(dir / "modified_equation_formulas.txt", "modified_equation", header,
+                {"system", "scheme", "quantity", "k", "text", "mathematica"});
+  AtomicFile tex(dir / "modified_equation_formulas.tex");
+  std::FILE* out = tex.handle();
+  std::fprintf(out, "%% program: modified_equation\n%% git: %s\n", git_revision());
+  for (const auto& [k, v] : header) std::fprintf(out, "%% %s: %s\n", k.c_str(), v.c_str());
+  for (std::size_t s = 0; s < schemes.size(); ++s) {
+    // quantity -> its coefficients by k, in the order they first appear
+    std::vector<std::string> order;
+    std::map<std::string, std::vector<const FormulaRow*>> by;
+    for (const auto& r : forms[s].rows) {
+      if (!by.count(r.quantity)) order.push_back(r.quantity);
+      by[r.quantity].push_back(&r);
+      txt.row(system, schemes[s], r.quantity, r.k, r.text, r.mathematica);
+    }
+    std::fprintf(out, "\n%% %s, scheme %s\n\\begin{align*}\n", system.c_str(), schemes[s].c_str());
+    std::printf("\n%s, %s (formulas, order %d):\n", system.c_str(), schemes[s].c_str(), forms[s].K);
+    for (const auto& qn : order) {
+      std::vector<std::string> text, mma, latex;
+      for (const auto* r : by[qn]) {
+        text.push_back(r->text);
+        mma.push_back(r->mathematica);
+        latex.push_back(r->latex);
+      }
+      txt.row(system, schemes[s], qn, "sum", series_text(text, false), series_text(mma, false));
+      std::printf("  %s = %s\n", qn.c_str(), series_text(text, false).c_str());
+      std::string tq = qn;
+      const auto digit = tq.find_first_of("0123456789");
+      if (digit != std::string::npos) tq = tq.substr(0, digit) + "_{" + tq.substr(digit) + "}";
+      std::fprintf(out, "\\mathrm{%s} &= %s \\\\\n", tq.c_str(), series_text(latex, true).c_str());
+    }
+    std::fprintf(out, "\\end{align*}\n");
+  }
+  txt.commit();
+  tex.commit();
 }
 
 }  // namespace
@@ -62,6 +145,8 @@ int main(int argc, char** argv) {
     int K = 4;
     double t = 0, z = 0;
     std::vector<double> q{0.5}, v{0.3};
+    bool formulas = false;
+    double budget = 60;
     Cli cli("modified_equation", "the modified equation q'' = sum_k h^k F_k of a scheme at a point, to order K");
     cli.options.add_options()("system", po::value(&system)->default_value(system), "system (registry name)")(
         "scheme", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"), "schemes")(
@@ -69,7 +154,9 @@ int main(int argc, char** argv) {
         "q", po::value(&q)->multitoken()->default_value(q, "0.5"), "position (n components)")(
         "v", po::value(&v)->multitoken()->default_value(v, "0.3"), "velocity q' (n components)")(
         "z", po::value(&z)->default_value(z), "Herglotz action z (contact schemes)")(
-        "param", po::value(&params)->multitoken(), "system parameters NAME=VALUE (defaults: the system's)");
+        "param", po::value(&params)->multitoken(), "system parameters NAME=VALUE (defaults: the system's)")(
+        "formulas", po::bool_switch(&formulas), "also derive the modified equation as formulas (text, Mathematica, LaTeX)")(
+        "budget", po::value(&budget)->default_value(budget), "time budget of the formulas, seconds per scheme");
     if (!cli.parse(argc, argv)) return 0;
 
     const auto& info = find_system(system);
@@ -83,10 +170,14 @@ int main(int argc, char** argv) {
     require(static_cast<int>(q.size()) == info.dof && static_cast<int>(v.size()) == info.dof,
             "system '" + system + "' has " + std::to_string(info.dof) + " degrees of freedom: give that many --q and --v values");
     for (const auto& s : schemes) info.scheme(s);
+    require(std::isfinite(budget) && budget > 0, "--budget must be a positive number of seconds");
 
     // Compute everything before writing anything.
     std::vector<ModifiedPoint> points;
     for (const auto& s : schemes) points.push_back(ms.at(pv, s, K, t, q, v, z, true));
+    std::vector<ModifiedFormulas> forms;
+    if (formulas)
+      for (const auto& s : schemes) forms.push_back(ms.formulas(s, K, budget));
 
     const auto dir = prepare_output_dir(cli.out);
     Params header = info.header(pv);
@@ -121,6 +212,7 @@ int main(int argc, char** argv) {
       emit(K, "residual", P.residual);
     }
     tsv.commit();
+    if (formulas) write_formulas(dir, system, schemes, header, forms);
     return 0;
   });
 }
