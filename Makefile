@@ -77,7 +77,7 @@ test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
 # Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor
-# (Google Benchmark; timings: never part of make test).
+# (Google Benchmark; timings: never part of make test); seconds to derive the modified equations as formulas.
 bench: build
 	@mkdir -p $(OUT)
 	@$(BUILD)/experiments/bench_steps --out $(OUT)
@@ -85,6 +85,8 @@ bench: build
 	@$(BUILD)/experiments/bench_ensembles --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_generic --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_symbolic --out $(OUT)
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

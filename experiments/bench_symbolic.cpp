@@ -1,0 +1,99 @@
+// What the modified equations cost as formulas: seconds to derive F_0..F_K (with z', the multiplier, the
+// modified constraint, the modified Lagrangian and force, and their printed forms) against K, for the pendulum,
+// the knife edge and the Foucault pendulum, with `la` and `contact` — the engine with GiNaC coefficients
+// (geomint/modified/symbolic.hpp), through the registry as modified_equation --formulas calls it.
+//   bench_symbolic [--systems pendulum knife-edge foucault] [--schemes la contact] [--max-order 4]
+//                  [--repeat 3] [--budget 60] [--out out]
+// Each run has the time budget; a run that exhausts it is recorded with the order it reached and stops the
+// higher orders of that system and scheme. Median of --repeat runs (one run above 5 s). A timing program, run
+// by `make bench`, never a test: the machine is shared, so the header records the load average.
+// Writes out/bench_symbolic.tsv (columns system, scheme, K, reached, seconds, runs, stopped).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "geomint/cli.hpp"
+#include "geomint/error.hpp"
+#include "geomint/io.hpp"
+#include "geomint/modified/automatic_registry.hpp"
+#include "geomint/registry.hpp"
+
+using namespace geomint;
+using namespace geomint::modified;
+
+int main(int argc, char** argv) {
+  return guarded_main("bench_symbolic", [&] {
+    std::vector<std::string> systems{"pendulum", "knife-edge", "foucault"}, schemes{"la", "contact"};
+    int max_order = 4, repeat = 3;
+    double budget = 60;
+    Cli cli("bench_symbolic", "seconds to derive the modified equations as formulas, against the order K");
+    cli.options.add_options()("systems", po::value(&systems)->multitoken()->default_value(systems, "pendulum knife-edge foucault"),
+                              "systems (registry names)")(
+        "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"), "schemes")(
+        "max-order", po::value(&max_order)->default_value(max_order), "largest K (0..6)")(
+        "repeat", po::value(&repeat)->default_value(repeat), "runs per cell (median)")(
+        "budget", po::value(&budget)->default_value(budget), "time budget of one run, seconds");
+    if (!cli.parse(argc, argv)) return 0;
+    require(max_order >= 0 && max_order <= registry_max_order, "--max-order must be in [0, " + std::to_string(registry_max_order) + "]");
+    require(repeat >= 1 && repeat <= 100, "--repeat must be in [1, 100]");
+    require(std::isfinite(budget) && budget > 0, "--budget must be a positive number of seconds");
+    for (const auto& s : systems) {
+      const auto& info = find_system(s);
+      find_modified_system(s);
+      for (const auto& g : schemes) info.scheme(g);
+    }
+
+    struct Row {
+      std::string system, scheme;
+      int K, reached, runs;
+      double seconds;
+      bool stopped;
+    };
+    std::vector<Row> rows;
+    double load[3] = {0, 0, 0};
+    getloadavg(load, 3);
+    std::printf("%-12s %-8s %3s %8s %12s %5s\n", "system", "scheme", "K", "reached", "seconds", "runs");
+    for (const auto& s : systems) {
+      const auto& ms = find_modified_system(s);
+      for (const auto& g : schemes) {
+        bool over = false;
+        for (int K = 0; K <= max_order && !over; ++K) {
+          std::vector<double> times;
+          ModifiedFormulas f;
+          for (int r = 0; r < repeat; ++r) {
+            const auto t0 = std::chrono::steady_clock::now();
+            f = ms.formulas(g, K, budget);
+            times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            if (f.stopped || times.back() > 5) break;
+          }
+          std::sort(times.begin(), times.end());
+          const double med = times[times.size() / 2];
+          rows.push_back({s, g, K, f.K, static_cast<int>(times.size()), med, f.stopped});
+          std::printf("%-12s %-8s %3d %8d %12.4f %5zu%s\n", s.c_str(), g.c_str(), K, f.K, med, times.size(),
+                      f.stopped ? "  stopped by the budget" : "");
+          std::fflush(stdout);
+          over = f.stopped;
+        }
+      }
+    }
+
+    const auto dir = prepare_output_dir(cli.out);
+    char ld[64];
+    std::snprintf(ld, sizeof ld, "%.2f %.2f %.2f", load[0], load[1], load[2]);
+    TsvWriter tsv(dir / "bench_symbolic.tsv", "bench_symbolic",
+                  {{"systems", join_names(systems)},
+                   {"schemes", join_names(schemes)},
+                   {"max_order", std::to_string(max_order)},
+                   {"repeat", std::to_string(repeat)},
+                   {"budget_s", format_number(budget)},
+                   {"load_average_at_start", ld},
+                   {"what", "wall seconds to derive F_0..F_K and the other quantities as printed formulas (median)"}},
+                  {"system", "scheme", "K", "reached", "seconds", "runs", "stopped"});
+    for (const auto& r : rows) tsv.row(r.system, r.scheme, r.K, r.reached, r.seconds, r.runs, r.stopped ? "yes" : "no");
+    tsv.commit();
+    return 0;
+  });
+}
