@@ -4,6 +4,8 @@
 // on the equations the core derives from L (cross-checked against the hand-written rhs below).
 // This header is the README's "add a system" example: it and one line in core/src/systems.def give the
 // pendulum every generic scheme and every study.
+// The parameter type P is a template parameter (Pendulum = PendulumT<double>): with a symbolic P the same
+// Lagrangian gives the modified equations as formulas in alpha (geomint/modified/symbolic.hpp).
 #include <cmath>
 
 #include "geomint/error.hpp"
@@ -11,13 +13,14 @@
 
 namespace geomint::systems {
 
-struct Pendulum {
+template <class P = double>
+struct PendulumT {
   static constexpr const char* name = "pendulum";
   static constexpr const char* description = "damped nonlinear pendulum: q'' + alpha q' + sin q = 0";
   static constexpr int dof = 1;
   static constexpr int constraints = 0;
 
-  double alpha = 0.1, q0 = 1, p0 = 0, T = 20;
+  P alpha = 0.1, q0 = 1, p0 = 0, T = 20;
 
   template <class V>
   void visit(V&& v) {
@@ -58,5 +61,6 @@ struct Pendulum {
     a(0) = -std::sin(q(0)) - alpha * v(0);
   }
 };
+using Pendulum = PendulumT<>;
 
 }  // namespace geomint::systems
