@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
           ModifiedFormulas f;
           for (int r = 0; r < repeat; ++r) {
             const auto t0 = std::chrono::steady_clock::now();
-            f = ms.formulas(g, K, budget);
+            f = ms.formulas({}, g, K, budget);
             times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
             if (f.stopped || times.back() > 5) break;
           }

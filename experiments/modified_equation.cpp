@@ -89,6 +89,12 @@ void write_formulas(const std::filesystem::path& dir, const std::string& system,
   };
   std::stable_sort(symbols.begin(), symbols.end(), [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
   header.emplace_back("symbols", join_names(symbols));
+  std::string values;
+  for (const auto& f : forms)
+    for (const auto& [name, x] : f.values)
+      if (values.find(name + "=") != 0 && values.find(" " + name + "=") == std::string::npos)
+        values += (values.empty() ? "" : " ") + name + "=" + format_number(x);
+  header.emplace_back("symbol_values", values);
   for (std::size_t s = 0; s < schemes.size(); ++s) {
     const auto& f = forms[s];
     char line[200];
@@ -177,7 +183,7 @@ int main(int argc, char** argv) {
     for (const auto& s : schemes) points.push_back(ms.at(pv, s, K, t, q, v, z, true));
     std::vector<ModifiedFormulas> forms;
     if (formulas)
-      for (const auto& s : schemes) forms.push_back(ms.formulas(s, K, budget));
+      for (const auto& s : schemes) forms.push_back(ms.formulas(pv, s, K, budget));
 
     const auto dir = prepare_output_dir(cli.out);
     Params header = info.header(pv);

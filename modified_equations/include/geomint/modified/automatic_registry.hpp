@@ -3,6 +3,7 @@
 // instantiation lives in one generated translation unit per line of core/src/systems.def, so a new system
 // gets its modified equations with no other file touched).
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geomint/registry.hpp"
@@ -57,6 +58,8 @@ struct ModifiedFormulas {
   bool stopped = false;
   double seconds = 0, budget = 0;
   std::vector<std::string> symbols;  // every symbol a formula may use
+  // the parameters' symbols at the values the call was given (to evaluate a formula at a run's parameters)
+  std::vector<std::pair<std::string, double>> values;
   std::vector<FormulaRow> rows;
 };
 
@@ -76,9 +79,10 @@ struct ModifiedSystem {
                                  double tol) = nullptr;
   // The shooting start alone: v~(0) with q~(0) = q_0, q~(h) = q_1.
   std::vector<double> (*shoot)(const ParamValues&, const std::string& scheme, int K, double h, double tol) = nullptr;
-  // The modified equation of `scheme` as formulas to order K, every parameter a symbol, within a time budget
-  // (seconds); InputError for a system that has no symbolic parameter type.
-  ModifiedFormulas (*formulas)(const std::string& scheme, int K, double budget_seconds) = nullptr;
+  // The modified equation of `scheme` as formulas to order K, every parameter a symbol (ModifiedFormulas::values
+  // gives their values at the parameters passed), within a time budget (seconds); InputError for a system that
+  // has no symbolic parameter type.
+  ModifiedFormulas (*formulas)(const ParamValues&, const std::string& scheme, int K, double budget_seconds) = nullptr;
 };
 
 const std::vector<ModifiedSystem>& all_modified_systems();

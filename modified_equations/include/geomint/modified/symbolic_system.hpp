@@ -3,7 +3,10 @@
 // applicable scheme, on the system's symbolic instantiation SysT<GiNaC::ex> (a system header templated on its
 // parameter type; Sys = SysT<double>), every parameter a symbol. Heavy: included only by the generated symbolic
 // translation units (modified_equations/src/symbolic_instance.cpp.in) and by tests.
+#include <algorithm>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "geomint/error.hpp"
@@ -25,6 +28,25 @@ struct SymbolicOf<SysT<double>> {
   static constexpr bool available = true;
   using type = SysT<GiNaC::ex>;
 };
+
+// The values of the symbolic parameters at a numeric instance: its fields by name (visit), or, for a system
+// whose symbols are combinations of its fields (the Foucault pendulum's s = Omega sin beta), its
+// `visit_symbols(v)`, v(name, value) for each symbol.
+template <class Sys, class = void>
+struct has_visit_symbols : std::false_type {};
+template <class Sys>
+struct has_visit_symbols<Sys, std::void_t<decltype(std::declval<const Sys&>().visit_symbols(
+                                  std::declval<void (*)(const char*, double)>()))>> : std::true_type {};
+
+template <class Sys>
+std::vector<std::pair<std::string, double>> symbol_values(Sys sys) {
+  std::vector<std::pair<std::string, double>> out;
+  if constexpr (has_visit_symbols<Sys>::value)
+    sys.visit_symbols([&](const char* name, double x) { out.emplace_back(printed_symbol_name(name), x); });
+  else
+    sys.visit([&](const char* name, double& x, const char*) { out.emplace_back(printed_symbol_name(name), x); });
+  return out;
+}
 
 // Every parameter of the system a symbol named as on the command line.
 template <class SymSys>
@@ -105,8 +127,9 @@ SymbolicResult symbolic_modified(const SymSys& sys, const FormulaSymbols& sy, in
 ModifiedFormulas formula_rows(const SymbolicResult& r, const FormulaSymbols& sy);
 
 template <class Sys>
-ModifiedFormulas symbolic_formulas(const std::string& scheme, int K, double budget_seconds) {
+ModifiedFormulas symbolic_formulas(const ParamValues& pv, const std::string& scheme, int K, double budget_seconds) {
   if constexpr (!SymbolicOf<Sys>::available) {
+    (void)pv;
     (void)scheme;
     (void)K;
     (void)budget_seconds;
@@ -114,6 +137,8 @@ ModifiedFormulas symbolic_formulas(const std::string& scheme, int K, double budg
   } else {
     using SymSys = typename SymbolicOf<Sys>::type;
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
+    const Sys numeric = generic::make_system<Sys>(pv);
+    numeric.validate();
     return generic::visit_scheme<Sys>(scheme, [&](auto g) {
       const SymbolicBudget budget{budget_seconds};
       FormulaSymbols sy(Sys::dof);
@@ -123,6 +148,8 @@ ModifiedFormulas symbolic_formulas(const std::string& scheme, int K, double budg
       f.K_asked = K;
       f.seconds = budget.elapsed();
       f.budget = budget_seconds;
+      for (const auto& [name, x] : symbol_values(numeric))
+        if (std::find(f.symbols.begin(), f.symbols.end(), name) != f.symbols.end()) f.values.emplace_back(name, x);
       return f;
     });
   }
