@@ -9,6 +9,7 @@
 // u = x' cos theta + y' sin theta obeys m u' = -k (x cos theta + y sin theta) - alpha m u, so the motion is
 // bounded and decays. Reference: Boost.Odeint on the Lagrange–d'Alembert equations the core derives from
 // L and Phi, cross-checked against the hand-written rhs below.
+// Templated on the parameter type (KnifeEdge = KnifeEdgeT<double>): a symbolic P gives the formulas.
 #include <cmath>
 
 #include "geomint/error.hpp"
@@ -16,14 +17,15 @@
 
 namespace geomint::systems {
 
-struct KnifeEdge {
+template <class P = double>
+struct KnifeEdgeT {
   static constexpr const char* name = "knife-edge";
   static constexpr const char* description = "damped knife edge (Chaplygin skate) in a harmonic well, constraint sin(th) x' = cos(th) y'";
   static constexpr int dof = 3;
   static constexpr int constraints = 1;
 
-  double m = 1, I = 0.5, k = 1, kappa = 2, alpha = 0.1;
-  double x0 = 1, y0 = 0, theta0 = 0.8, u0 = 0.5, omega0 = 0, T = 20;
+  P m = 1, I = 0.5, k = 1, kappa = 2, alpha = 0.1;
+  P x0 = 1, y0 = 0, theta0 = 0.8, u0 = 0.5, omega0 = 0, T = 20;
 
   template <class V>
   void visit(V&& v) {
@@ -93,5 +95,6 @@ struct KnifeEdge {
     a(2) = (-kappa * q(2) - alpha * I * v(2)) / I;
   }
 };
+using KnifeEdge = KnifeEdgeT<>;
 
 }  // namespace geomint::systems
