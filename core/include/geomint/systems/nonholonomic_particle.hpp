@@ -10,6 +10,8 @@
 // With the predictor v* = (v_{j-1} - h w2 q_j)/(1 + h alpha) this is linear in (v_j, lambda):
 //   lambda/m = (1 + h alpha) (a . v*) / |a|^2,   v_j = v* - (a . v*) a / |a|^2,
 // the projection of v* onto the constraint plane.
+// Templated on the parameter type (NonholonomicParticle = NonholonomicParticleT<double>): a symbolic P gives the
+// formulas.
 #include <array>
 #include <cmath>
 
@@ -27,14 +29,15 @@ struct ParticleLaNh;
 
 namespace systems {
 
-struct NonholonomicParticle {
+template <class P = double>
+struct NonholonomicParticleT {
   static constexpr const char* name = "particle";
   static constexpr const char* description = "damped nonholonomic particle in a harmonic well, constraint z' = y x'";
   static constexpr int dof = 3;
   static constexpr int constraints = 1;
 
-  double m = 1, w2 = 1, alpha = 0.1;
-  double x0 = 1, y0 = 0.5, z0 = -0.3, vx0 = 0.2, vy0 = -0.4, vz0 = 0.1, T = 10;
+  P m = 1, w2 = 1, alpha = 0.1;
+  P x0 = 1, y0 = 0.5, z0 = -0.3, vx0 = 0.2, vy0 = -0.4, vz0 = 0.1, T = 10;
 
   template <class V>
   void visit(V&& v) {
@@ -110,6 +113,7 @@ struct NonholonomicParticle {
   template <class Closed, class R, class Observer>
   void run_fast(R h, long N, Observer&& observe) const;
 };
+using NonholonomicParticle = NonholonomicParticleT<>;
 
 }  // namespace systems
 
@@ -133,10 +137,11 @@ struct ParticleLaNh {
 }  // namespace schemes
 
 // The closed form started as the generic LA: p_0 = m v0 at the projected velocity, i.e. v_{-1} = v0; then p_j = m v_{j-1}.
+template <class P>
 template <class Closed, class R, class Observer>
-void systems::NonholonomicParticle::run_fast(R h, long N, Observer&& observe) const {
+void systems::NonholonomicParticleT<P>::run_fast(R h, long N, Observer&& observe) const {
   Vec<R, 3> q = initial_position<R>();
-  Vec<R, 3> v = generic::consistent_velocity<NonholonomicParticle, R>(*this, R(0), q, initial_velocity<R>());
+  Vec<R, 3> v = generic::consistent_velocity<NonholonomicParticleT, R>(*this, R(0), q, initial_velocity<R>());
   Vec<R, 1> lambda = Vec<R, 1>::Zero();
   for (long j = 0;; ++j) {
     const Vec<R, 3> p = R(m) * v;
