@@ -3,14 +3,16 @@
 // equations beyond one degree of freedom.
 //   L = (q1'^2 + q2'^2)/2 - (q1^2 + q2^2)/2 - kappa/2 (q1 - q2)^2,  Rayleigh force -alpha q' (Herglotz: L - alpha z).
 // Normal modes: u = (q1 + q2)/2 with u'' + alpha u' + u = 0, w = (q1 - q2)/2 with w'' + alpha w' + (1 + 2 kappa) w = 0,
-// each in closed form (oscillator.hpp).
+// each in closed form (oscillator.hpp). Templated on the parameter type (CoupledOscillators =
+// CoupledOscillatorsT<double>): a symbolic P gives the formulas.
 #include "geomint/error.hpp"
 #include "geomint/generic/system.hpp"
 #include "geomint/oscillator.hpp"
 
 namespace geomint::systems {
 
-struct CoupledOscillators {
+template <class P = double>
+struct CoupledOscillatorsT {
   static constexpr const char* name = "coupled-oscillators";
   static constexpr const char* description = "two damped oscillators coupled by a spring (frequencies 1 and sqrt(1 + 2 kappa))";
   static constexpr int dof = 2;
@@ -18,7 +20,7 @@ struct CoupledOscillators {
   static constexpr bool linear = true;
   static constexpr bool autonomous = true;  // no explicit t: the generic step is one fixed affine map
 
-  double alpha = 0.1, kappa = 4, q10 = 1, q20 = 0, v10 = 0, v20 = 0, T = 50;
+  P alpha = 0.1, kappa = 4, q10 = 1, q20 = 0, v10 = 0, v20 = 0, T = 50;
 
   template <class V>
   void visit(V&& v) {
@@ -69,5 +71,6 @@ struct CoupledOscillators {
     a(1) = -q(1) + kappa * (q(0) - q(1)) - alpha * v(1);
   }
 };
+using CoupledOscillators = CoupledOscillatorsT<>;
 
 }  // namespace geomint::systems
