@@ -6,6 +6,7 @@
 //   q_ss(t) = C sin(omega t - delta),  C = beta / sqrt((1 - omega^2)^2 + (alpha omega)^2),
 //   delta = atan2(alpha omega, 1 - omega^2),
 // plus an optional offset (dq0, dv0) whose transient is the damped oscillator's closed form.
+// Templated on the parameter type (ForcedOscillator = ForcedOscillatorT<double>): a symbolic P gives the formulas.
 #include <cmath>
 
 #include "geomint/error.hpp"
@@ -14,14 +15,15 @@
 
 namespace geomint::systems {
 
-struct ForcedOscillator {
+template <class P = double>
+struct ForcedOscillatorT {
   static constexpr const char* name = "forced-oscillator";
   static constexpr const char* description = "forced damped oscillator: q'' + alpha q' + q = beta sin(omega t)";
   static constexpr int dof = 1;
   static constexpr int constraints = 0;
   static constexpr bool linear = true;  // L quadratic in (q, q'), F linear: every step is a linear solve
 
-  double alpha = 0.1, beta = 0.3, omega = 3.14159265358979323846 / 3, dq0 = 0, dv0 = 0, T = 50;
+  P alpha = 0.1, beta = 0.3, omega = 3.14159265358979323846 / 3, dq0 = 0, dv0 = 0, T = 50;
 
   template <class V>
   void visit(V&& v) {
@@ -89,5 +91,6 @@ struct ForcedOscillator {
     a(0) = -q(0) - alpha * v(0) + beta * std::sin(omega * t);
   }
 };
+using ForcedOscillator = ForcedOscillatorT<>;
 
 }  // namespace geomint::systems
