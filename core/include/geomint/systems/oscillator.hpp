@@ -3,6 +3,7 @@
 // Herglotz form L - alpha z (9). Equation of motion q'' + alpha q' + q = 0, solved in closed form for every
 // regime (oscillator.hpp). The paper's integrators (7) (derived: `la`) and (10) (`contact`), and the
 // second-order comparators, are closed-form fast paths of the generic schemes (oscillator_schemes.hpp).
+// Templated on the parameter type (Oscillator = OscillatorT<double>): a symbolic P gives the formulas.
 #include "geomint/generic/fast_path.hpp"
 #include "geomint/generic/schemes.hpp"
 #include "geomint/oscillator.hpp"
@@ -10,7 +11,8 @@
 
 namespace geomint::systems {
 
-struct Oscillator {
+template <class P = double>
+struct OscillatorT {
   static constexpr const char* name = "oscillator";
   static constexpr const char* description = "damped harmonic oscillator (Section 3.1): q'' + alpha q' + q = 0";
   static constexpr int dof = 1;
@@ -18,7 +20,7 @@ struct Oscillator {
   static constexpr bool linear = true;
   static constexpr bool autonomous = true;  // no explicit t: the generic step is one fixed affine map
 
-  double alpha = 0.01, q0 = -0.25, p0 = 0.75, T = 50;
+  P alpha = 0.01, q0 = -0.25, p0 = 0.75, T = 50;
 
   template <class V>
   void visit(V&& v) {
@@ -83,5 +85,6 @@ struct Oscillator {
     }
   }
 };
+using Oscillator = OscillatorT<>;
 
 }  // namespace geomint::systems
