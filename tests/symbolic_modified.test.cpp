@@ -1,0 +1,414 @@
+// The modified equations as formulas (GiNaC coefficients through the same engine and the same residual templates
+// as the numbers): checked against the published results term by term — the difference of two formulas must
+// simplify to 0 — and against the numeric engine at random points for every registered system and scheme.
+// Each published check also runs with one coefficient deliberately wrong, which must fail.
+#include <catch2/catch.hpp>
+
+#include <cctype>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+
+#include "geomint/modified/symbolic_system.hpp"
+#include "geomint/registry.hpp"
+#include "geomint/systems/foucault.hpp"
+#include "geomint/systems/knife_edge.hpp"
+#include "geomint/systems/pendulum.hpp"
+#include "helpers.hpp"
+
+using namespace geomint;
+using namespace geomint::modified;
+using GiNaC::ex;
+
+namespace {
+
+// A test-local oscillator with its parameter type templated (the registered header keeps its own form until it
+// is converted): L = q'^2/2 - q^2/2, F = -alpha q', Herglotz L - alpha z — the paper's Section 3.1.
+template <class P = double>
+struct OscillatorT {
+  static constexpr const char* name = "oscillator-test";
+  static constexpr int dof = 1, constraints = 0;
+  P alpha = 0.1;
+  template <class V>
+  void visit(V&& v) {
+    v("alpha", alpha, "Rayleigh damping");
+  }
+  template <class S>
+  S lagrangian(const S&, const Vec<S, 1>& q, const Vec<S, 1>& v) const {
+    return v(0) * v(0) / 2 - q(0) * q(0) / 2;
+  }
+  template <class S>
+  S herglotz(const S& t, const Vec<S, 1>& q, const Vec<S, 1>& v, const S& z) const {
+    return lagrangian(t, q, v) - alpha * z;
+  }
+  template <class S>
+  Vec<S, 1> force(const S&, const Vec<S, 1>&, const Vec<S, 1>& v) const {
+    return Vec<S, 1>::Constant(-alpha * v(0));
+  }
+};
+
+// The formulas of scheme G on the symbolic system SysT<ex>, to order K.
+template <template <class> class SysT, class G>
+struct Formulas {
+  FormulaSymbols sy{SysT<double>::dof};
+  SymbolicResult r;
+  Formulas(int K, double budget = 60) {
+    const auto sys = symbolic_system<SysT<ex>>(sy);
+    r = symbolic_modified<SysT<ex>, G, 6>(sys, sy, K, SymbolicBudget{budget});
+  }
+  ex q() const { return sy.q[0]; }
+  ex v() const { return sy.v[0]; }
+  ex alpha() { return sy.param("alpha"); }
+  ex F(int k) const { return r.F[static_cast<std::size_t>(k)][0]; }
+};
+
+// a == b as formulas: their difference simplifies to 0.
+bool same(const ex& a, const ex& b) { return simplify_coefficient(a - b).is_zero(); }
+
+}  // namespace
+
+TEST_CASE("formulas: Störmer–Verlet on the pendulum is HLW's q'' = -sin q - h^2/12 (q'^2 sin q + sin q cos q), F1 = F3 = 0", "[symbolic]") {
+  Formulas<systems::PendulumT, generic::LaTrapezoid> f(4);
+  REQUIRE(f.r.K == 4);
+  const ex q = f.q(), v = f.v(), a0 = f.alpha() == 0;
+  CHECK(same(f.F(0), -sin(q) - f.alpha() * v));
+  CHECK(f.F(1).is_zero());
+  CHECK(f.F(3).is_zero());
+  const ex hlw = -(v * v * sin(q) + sin(q) * cos(q)) / 12;
+  CHECK(same(f.F(2).subs(a0), hlw));
+  CHECK_FALSE(same(f.F(2).subs(a0), -(v * v * sin(q) + sin(q) * cos(q)) / 11));  // a wrong coefficient fails
+  CHECK_FALSE(same(f.F(2).subs(a0), -(v * v * sin(q) - sin(q) * cos(q)) / 12));  // a wrong sign fails
+}
+
+TEST_CASE("formulas: Vermeeren's modified Lagrangians, midpoint L + h^2/24 (U'^2 + U'' q'^2), Störmer–Verlet L + h^2/24 (U'^2 - 2 U'' q'^2)", "[symbolic]") {
+  // the pendulum, U = 1 - cos q, alpha = 0: the meshed Lagrangian of the scheme's own discrete action
+  Formulas<systems::PendulumT, generic::LaMidpoint> mid(3);
+  Formulas<systems::PendulumT, generic::LaTrapezoid> sv(3);
+  for (auto* f : {&mid.r, &sv.r}) REQUIRE(f->has_lagrangian);
+  const ex q = mid.q(), v = mid.v(), a0 = mid.alpha() == 0;
+  const ex U1 = sin(q), U2 = cos(q), L = v * v / 2 - (1 - cos(q));
+  CHECK(same(mid.r.L[0].subs(a0), L));
+  CHECK(mid.r.L[1].subs(a0).is_zero());
+  CHECK(same(mid.r.L[2].subs(a0), (U1 * U1 + U2 * v * v) / 24));
+  CHECK(mid.r.L[3].subs(a0).is_zero());
+  const ex q2 = sv.q(), v2 = sv.v(), b0 = sv.alpha() == 0;
+  CHECK(same(sv.r.L[2].subs(b0), (pow(sin(q2), 2) - 2 * cos(q2) * v2 * v2) / 24));
+  CHECK_FALSE(same(sv.r.L[2].subs(b0), (pow(sin(q2), 2) + cos(q2) * v2 * v2) / 24));  // the two must differ
+  // a conservative variational scheme needs no modified force: the Euler–Lagrange equations of its modified
+  // Lagrangian are its modified equation (to the order computed)
+  for (int k = 0; k <= 3; ++k) {
+    CHECK(mid.r.Fmod[static_cast<std::size_t>(k)][0].subs(a0).is_zero());
+    CHECK(sv.r.Fmod[static_cast<std::size_t>(k)][0].subs(b0).is_zero());
+  }
+}
+
+TEST_CASE("formulas: the paper's (8) for LA on the oscillator, as the harness derives it", "[symbolic]") {
+  Formulas<OscillatorT, generic::LaLeft> f(3);
+  const ex q = f.q(), v = f.v(), al = f.alpha();
+  // modified equation to O(h): q'' = -q - alpha q' + h alpha/2 (q + alpha q')  (= -alpha/2 q''_0: the force of (8))
+  CHECK(same(f.F(0), -q - al * v));
+  CHECK(same(f.F(1), al / 2 * (q + al * v)));
+  CHECK_FALSE(same(f.F(1), -al / 2 * (q + al * v)));  // (8) with the sign of its h-term flipped
+  // (8)'s Lagrangian L + h/2 q' q'': its h-term is d/dt(h q'^2/4); the harness's meshed Lagrangian has
+  // L_1 = q q'/2 = d/dt(q^2/4): both are total derivatives, so both give no equation of motion at O(h)
+  CHECK(same(f.r.L[0], v * v / 2 - q * q / 2));
+  CHECK(same(f.r.L[1], q * v / 2));
+  // (8)'s force -alpha q' - h alpha/2 q'': with q'' -> -q - alpha q' (its leading order), the harness's F_mod
+  CHECK(same(f.r.Fmod[0][0], -al * v));
+  CHECK(same(f.r.Fmod[1][0], -al / 2 * (-q - al * v)));
+}
+
+TEST_CASE("formulas: the paper's (11) for contact on the oscillator: L_mod = (1 + h alpha/2) L", "[symbolic]") {
+  Formulas<OscillatorT, generic::ContactLeft> f(3);
+  const ex q = f.q(), v = f.v(), al = f.alpha(), z = f.sy.z;
+  const ex L = v * v / 2 - q * q / 2 - al * z;
+  CHECK(same(f.r.Z[0], L));
+  CHECK(same(f.r.Z[1], al / 2 * L));
+  CHECK_FALSE(same(f.r.Z[1], -al / 2 * L));
+  CHECK(same(f.F(1), -al * al * v / 2));
+}
+
+TEST_CASE("formulas: the oscillator's exact all-orders damping, a_k = (-+1)^k alpha^(k+1)/(k+1) to h^6", "[symbolic]") {
+  // det of the one-step map: 1/(1 + h alpha) (la), 1 - h alpha (contact); the modified damping is -ln(det)/h
+  for (bool la : {true, false}) {
+    auto check = [&](auto& f) {
+      REQUIRE(f.r.K == 6);
+      const ex al = f.alpha();
+      for (int k = 0; k <= 6; ++k) {
+        const ex ak = (la && k % 2 ? -1 : 1) * pow(al, k + 1) / (k + 1);
+        INFO((la ? "la" : "contact") << " k " << k);
+        CHECK(same(-f.F(k).expand().coeff(f.v(), 1), ak));
+        CHECK_FALSE(same(-f.F(k).expand().coeff(f.v(), 1), ak * (k + 2) / (k + 1)));
+      }
+    };
+    if (la) {
+      Formulas<OscillatorT, generic::LaLeft> f(6);
+      check(f);
+    } else {
+      Formulas<OscillatorT, generic::ContactLeft> f(6);
+      check(f);
+    }
+  }
+}
+
+TEST_CASE("formulas: a run over its time budget stops and says at which order", "[symbolic]") {
+  Formulas<systems::PendulumT, generic::ContactLeft> f(6, 0.0);
+  CHECK(f.r.stopped);
+  CHECK(f.r.K == 0);  // order 0 is always built: the budget is checked before each higher order
+  CHECK(same(f.F(0), -sin(f.q()) - f.alpha() * f.v()));
+}
+
+namespace {
+
+// A formula's text (as modified_equation --formulas writes it) read back by GiNaC's parser.
+ex parse_formula(const std::string& text, const std::vector<std::string>& symbols, GiNaC::symtab& table) {
+  for (const auto& s : symbols)
+    if (!table.count(s)) table[s] = GiNaC::symbol(s);
+  GiNaC::parser reader(table, true);  // strict: an unknown name is an error, not a new symbol
+  return reader(text);
+}
+
+double number(const ex& e) {
+  const ex x = e.evalf();
+  REQUIRE(GiNaC::is_a<GiNaC::numeric>(x));
+  return GiNaC::ex_to<GiNaC::numeric>(x).to_double();
+}
+
+}  // namespace
+
+TEST_CASE("formulas equal the numbers at random points, every registered system and scheme", "[symbolic][registry]") {
+  // One engine, two coefficient types: the formulas (printed, read back, evaluated at a random point and the
+  // system's default parameters) against the numeric engine there, every quantity and order. The order is what
+  // each system reaches quickly (a few seconds at most here; bench_symbolic measures the rest).
+  std::mt19937 rng(20);
+  std::uniform_real_distribution<double> U(-0.9, 0.9);
+  int systems_checked = 0;
+  for (const auto& ms : all_modified_systems()) {
+    const int K = ms.constraints > 0 ? 2 : (ms.dof > 1 ? 3 : 4);
+    for (const auto& scheme : ms.schemes) {
+      ModifiedFormulas f;
+      try {
+        f = ms.formulas({}, scheme, K, 30);
+      } catch (const InputError& e) {
+        WARN(ms.name << ": " << e.what());
+        continue;
+      }
+      INFO(ms.name << " " << scheme << " K " << K);
+      REQUIRE(f.K == K);
+      GiNaC::symtab table;
+      GiNaC::lst point;
+      std::vector<double> q, v;
+      const double t = U(rng), z = U(rng);
+      for (int i = 0; i < ms.dof; ++i) {
+        q.push_back(U(rng));
+        v.push_back(U(rng));
+      }
+      auto set = [&](const std::string& name, double x) {
+        if (!table.count(name)) table[name] = GiNaC::symbol(name);
+        point.append(table[name] == exact_rational(x));
+      };
+      set("t", t);
+      set("z", z);
+      for (int i = 0; i < ms.dof; ++i) {
+        const std::string s = ms.dof == 1 ? "" : std::to_string(i + 1);
+        set("q" + s, q[static_cast<std::size_t>(i)]);
+        set("qdot" + s, v[static_cast<std::size_t>(i)]);
+      }
+      for (const auto& [name, x] : f.values) set(name, x);
+      const ModifiedPoint P = ms.at({}, scheme, K, t, q, v, z, false);
+      int compared = 0;
+      for (const auto& row : f.rows) {
+        const double x = number(parse_formula(row.text, f.symbols, table).subs(point));
+        const auto kk = static_cast<std::size_t>(row.k);
+        double ref = 0, scale = 1;
+        const std::string& Q = row.quantity;
+        const int idx = (Q.size() > 1 && std::isdigit(static_cast<unsigned char>(Q.back()))) ? Q.back() - '1' : 0;
+        if (Q.rfind("Fmod", 0) == 0) {
+          continue;  // no numeric counterpart (a symbolic derivative of the meshed Lagrangian)
+        } else if (Q[0] == 'F') {
+          ref = P.F_at(row.k, idx);
+          scale = std::abs(P.F_at(0, idx)) + 1;
+        } else if (Q == "Z") {
+          ref = P.Z[kk];
+          scale = std::abs(P.Z[0]) + 1;
+        } else if (Q == "L") {
+          ref = P.lagrangian[kk];
+          scale = std::abs(P.lagrangian[0]) + 1;
+        } else if (Q.rfind("mu", 0) == 0) {
+          ref = P.mu[kk * static_cast<std::size_t>(P.m) + static_cast<std::size_t>(idx)];
+          scale = std::abs(P.mu[static_cast<std::size_t>(idx)]) + 1;
+        } else if (Q.rfind("phi", 0) == 0) {
+          ref = P.phi[kk * static_cast<std::size_t>(P.m) + static_cast<std::size_t>(idx)];
+          scale = 1;
+        } else {
+          FAIL("unknown quantity " << Q);
+        }
+        INFO(Q << " k " << row.k << ": " << row.text);
+        CHECK(x == Approx(ref).epsilon(1e-10).margin(1e-12 * scale));
+        ++compared;
+      }
+      CHECK(compared >= K + 1);
+    }
+    ++systems_checked;
+  }
+  CHECK(systems_checked >= 1);
+}
+
+TEST_CASE("formulas: sympy reads the text as the numbers", "[symbolic][sympy]") {
+  // The pendulum's contact formulas as modified_equation --formulas prints them, read by sympy (sympify, the
+  // symbols declared) and evaluated at a point, against the numeric engine there: the printed syntax means in
+  // sympy what the engine computed.
+  const char* python = "/usr/bin/python3";
+  if (std::system((std::string(python) + " -c 'import sympy' 2> /dev/null").c_str()) != 0) {
+    FAIL("python3-sympy is not installed (make deps installs it)");
+  }
+  const auto& ms = find_modified_system("pendulum");
+  const auto f = ms.formulas({}, "contact", 3, 30);
+  const double q = 0.6, v = -0.35, z = 0.25;
+  const auto dir = geomint::testing::fresh_dir("sympy");
+  {
+    std::ofstream out(dir / "formulas.txt");
+    for (const auto& r : f.rows) out << r.text << "\n";
+  }
+  {
+    std::ofstream py(dir / "check.py");
+    py.precision(17);
+    py << "import sympy\n"
+          "names = '" << join_names(f.symbols) << "'.split()\n"
+          "syms = {n: sympy.Symbol(n) for n in names}\n"
+          "point = {syms['q']: " << q << ", syms['qdot']: " << v << ", syms['z']: " << z;
+    for (const auto& [name, x] : f.values) py << ", syms['" << name << "']: " << x;
+    py << "}\n"
+          "for line in open('" << (dir / "formulas.txt").string() << "'):\n"
+          "    e = sympy.sympify(line.strip(), locals=syms)\n"
+          "    print(sympy.N(e.subs(point), 20))\n";
+  }
+  const std::string cmd = std::string(python) + " " + (dir / "check.py").string() + " > " + (dir / "values.txt").string();
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const ModifiedPoint P = ms.at({}, "contact", 3, 0.0, {q}, {v}, z, false);
+  std::ifstream in(dir / "values.txt");
+  std::size_t read = 0;
+  for (const auto& r : f.rows) {
+    std::string value;
+    REQUIRE(std::getline(in, value));
+    const double x = std::stod(value);
+    const auto k = static_cast<std::size_t>(r.k);
+    INFO(r.quantity << " k " << r.k << ": " << r.text << " -> " << value);
+    if (r.quantity == "F") CHECK(x == Approx(P.F_at(r.k, 0)).epsilon(1e-12).margin(1e-14));
+    if (r.quantity == "Z") CHECK(x == Approx(P.Z[k]).epsilon(1e-12).margin(1e-14));
+    ++read;
+  }
+  CHECK(read == f.rows.size());
+  CHECK(read == 8);  // F and Z, k = 0..3
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("modified_equation --formulas: text and LaTeX next to an unchanged table", "[symbolic][programs]") {
+  const auto dir = geomint::testing::fresh_dir("formulas");
+  const auto plain = dir / "plain", with = dir / "with";
+  REQUIRE(geomint::testing::run_program("modified_equation", "--scheme la contact --order 3 --out " + plain.string()).exit_code == 0);
+  const auto r = geomint::testing::run_program("modified_equation", "--scheme la contact --order 3 --formulas --out " + with.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  // the numeric table is the same file with or without the formulas
+  CHECK(slurp(plain / "modified_equation.tsv") == slurp(with / "modified_equation.tsv"));
+  const std::string txt = slurp(with / "modified_equation_formulas.txt"), tex = slurp(with / "modified_equation_formulas.tex");
+  CHECK(txt.rfind("# program: modified_equation\n# git: ", 0) == 0);
+  CHECK(tex.rfind("% program: modified_equation\n% git: ", 0) == 0);
+  CHECK(txt.find("# symbols: h z q qdot alpha\n") != std::string::npos);
+  // LA's F_1 on the pendulum is (8)'s force -h alpha/2 q''_0 = alpha/2 (alpha q' + sin q): the text row, read
+  // back, is that formula
+  std::istringstream lines(txt);
+  std::string line;
+  bool found = false;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string c; std::getline(row, c, '\t');) cells.push_back(c);
+    if (cells.size() != 6 || cells[0] != "pendulum" || cells[1] != "la" || cells[2] != "F" || cells[3] != "1") continue;
+    GiNaC::symtab table;
+    const ex e = parse_formula(cells[4], {"q", "qdot", "alpha"}, table);
+    const ex q = table["q"], v = table["qdot"], al = table["alpha"];
+    CHECK(same(e, al / 2 * (al * v + sin(q))));
+    found = true;
+  }
+  CHECK(found);
+  CHECK(tex.find("\\begin{align*}") != std::string::npos);
+  CHECK(tex.find("\\frac{1}{2}") != std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("modified_equation --formulas rejects a bad budget", "[symbolic][programs]") {
+  geomint::testing::check_rejected("modified_equation", "--formulas --budget 0", "--budget");
+  geomint::testing::check_rejected("modified_equation", "--formulas --budget nan", "--budget");
+}
+
+TEST_CASE("formulas: the knife edge's modified equation, multiplier and constraint (la, contact) to K = 2", "[symbolic][nonholonomic]") {
+  for (bool contact : {false, true}) {
+    auto check = [&](auto& f) {
+      REQUIRE(f.r.K == 2);
+      const auto& sy = f.sy;
+      const ex x = sy.q[0], y = sy.q[1], th = sy.q[2], xd = sy.v[0], yd = sy.v[1], thd = sy.v[2];
+      const ex m = f.sy.param("m"), I = f.sy.param("I"), k = f.sy.param("k"), kappa = f.sy.param("kappa"), al = f.alpha();
+      INFO((contact ? "contact" : "la"));
+      // phi_0 is the constraint A q' itself; phi_1 its first correction, the same for both principles
+      CHECK(same(f.r.phi[0][0], sin(th) * xd - cos(th) * yd));
+      CHECK(same(f.r.phi[1][0], -thd * (xd * cos(th) + yd * sin(th)) / 2));
+      CHECK_FALSE(same(f.r.phi[1][0], thd * (xd * cos(th) + yd * sin(th)) / 2));
+      // mu_0: the continuous multiplier of the hand-written equations of knife_edge.hpp (the engine's sign: the
+      // residual carries -A^T lambda)
+      const ex u = xd * cos(th) + yd * sin(th);
+      const ex lambda = k * (x * sin(th) - y * cos(th)) - m * thd * u + al * m * (xd * sin(th) - yd * cos(th));
+      CHECK(same(f.r.mu[0][0], -lambda));
+      // the heading is a damped linear oscillator decoupled from the rest (w^2 = kappa/I): its modified equation
+      // is the oscillator's — la: F_1 = alpha/2 (w^2 th + alpha th'), F_2 = -w^4 th/12 - alpha^2 w^2 th/3 - alpha^3 th'/3;
+      // contact: F_1 = -alpha^2 th'/2, F_2 = -w^4 th/12 - alpha^2 w^2 th/12 - alpha^3 th'/3
+      const ex w2 = kappa / I;
+      CHECK(same(f.r.F[0][2], -w2 * th - al * thd));
+      if (!contact) {
+        CHECK(same(f.r.F[1][2], al / 2 * (w2 * th + al * thd)));
+        CHECK(same(f.r.F[2][2], -w2 * w2 * th / 12 - al * al * w2 * th / 3 - pow(al, 3) * thd / 3));
+      } else {
+        CHECK(same(f.r.F[1][2], -al * al * thd / 2));
+        CHECK(same(f.r.F[2][2], -w2 * w2 * th / 12 - al * al * w2 * th / 12 - pow(al, 3) * thd / 3));
+      }
+      CHECK_FALSE(same(f.r.F[2][2], -w2 * w2 * th / 12 - al * al * w2 * th / 6 - pow(al, 3) * thd / 3));
+    };
+    if (contact) {
+      Formulas<systems::KnifeEdgeT, generic::ContactLeft> f(2);
+      check(f);
+    } else {
+      Formulas<systems::KnifeEdgeT, generic::LaLeft> f(2);
+      check(f);
+    }
+  }
+}
+
+TEST_CASE("formulas: the Foucault constraint (13) near the origin, |F_1| = s V^2/r and |F_3| = s V^4/(6 r^3)", "[symbolic][nonholonomic]") {
+  // At q = (r, 0) with the consistent velocity (V, -s r) the series of F_k in r: the leading terms the README
+  // measured numerically (powers -1 and -3), transverse to the motion; h F_1 turns the velocity by s h (hV/r)
+  // per step, the measured plane jump Omega sin(beta) h/rho.
+  Formulas<systems::FoucaultT, generic::LaLeft> f(3);
+  Formulas<systems::FoucaultT, generic::ContactLeft> c(1);
+  REQUIRE(f.r.K == 3);
+  const GiNaC::symbol r("r"), V("V"), s("s");
+  // the coefficient of r^power at the point, in the symbols r, V, s (each run has symbols of its own)
+  auto leading_of = [&](auto& run, const ex& e, int power) {
+    const GiNaC::lst at{run.sy.q[0] == r, run.sy.q[1] == 0, run.sy.v[0] == V, run.sy.v[1] == -s * r, run.sy.param("s") == s};
+    return GiNaC::series_to_poly(simplify_coefficient(e.subs(at)).series(r == 0, power + 1)).coeff(r, power);
+  };
+  auto leading = [&](const ex& e, int power) { return leading_of(f, e, power); };
+  CHECK(same(leading(f.r.F[1][1], -1), s * V * V));
+  CHECK(same(leading(f.r.F[3][1], -3), -s * pow(V, 4) / 6));
+  CHECK_FALSE(same(leading(f.r.F[3][1], -3), -s * pow(V, 4) / 3));
+  // the motion's own component stays bounded: no 1/r in F_1 along x
+  CHECK(leading(f.r.F[1][0], -1).is_zero());
+  // contact: the same leading F_1 (the two principles share the constraint's discretization)
+  CHECK(same(leading_of(c, c.r.F[1][1], -1), s * V * V));
+}
