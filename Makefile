@@ -17,6 +17,7 @@ FIGURES   := fig1_oscillator convergence_oscillator backward_error work_precisio
 
 # Figures of the generic core's systems: one "program arguments..." per line.
 define FIGURE_COMMANDS
+modified_equation --formulas
 convergence --system pendulum
 regularized_error --system forced-oscillator --alpha 0.01 0.1 1 2
 convergence --system forced-oscillator --alpha 0.01 0.1 1 2
