@@ -13,6 +13,7 @@
 #include "geomint/registry.hpp"
 #include "geomint/systems/foucault.hpp"
 #include "geomint/systems/knife_edge.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/systems/pendulum.hpp"
 #include "helpers.hpp"
 
@@ -21,31 +22,6 @@ using namespace geomint::modified;
 using GiNaC::ex;
 
 namespace {
-
-// A test-local oscillator with its parameter type templated (the registered header keeps its own form until it
-// is converted): L = q'^2/2 - q^2/2, F = -alpha q', Herglotz L - alpha z — the paper's Section 3.1.
-template <class P = double>
-struct OscillatorT {
-  static constexpr const char* name = "oscillator-test";
-  static constexpr int dof = 1, constraints = 0;
-  P alpha = 0.1;
-  template <class V>
-  void visit(V&& v) {
-    v("alpha", alpha, "Rayleigh damping");
-  }
-  template <class S>
-  S lagrangian(const S&, const Vec<S, 1>& q, const Vec<S, 1>& v) const {
-    return v(0) * v(0) / 2 - q(0) * q(0) / 2;
-  }
-  template <class S>
-  S herglotz(const S& t, const Vec<S, 1>& q, const Vec<S, 1>& v, const S& z) const {
-    return lagrangian(t, q, v) - alpha * z;
-  }
-  template <class S>
-  Vec<S, 1> force(const S&, const Vec<S, 1>&, const Vec<S, 1>& v) const {
-    return Vec<S, 1>::Constant(-alpha * v(0));
-  }
-};
 
 // The formulas of scheme G on the symbolic system SysT<ex>, to order K.
 template <template <class> class SysT, class G>
@@ -103,7 +79,7 @@ TEST_CASE("formulas: Vermeeren's modified Lagrangians, midpoint L + h^2/24 (U'^2
 }
 
 TEST_CASE("formulas: the paper's (8) for LA on the oscillator, as the harness derives it", "[symbolic]") {
-  Formulas<OscillatorT, generic::LaLeft> f(3);
+  Formulas<systems::OscillatorT, generic::LaLeft> f(3);
   const ex q = f.q(), v = f.v(), al = f.alpha();
   // modified equation to O(h): q'' = -q - alpha q' + h alpha/2 (q + alpha q')  (= -alpha/2 q''_0: the force of (8))
   CHECK(same(f.F(0), -q - al * v));
@@ -119,7 +95,7 @@ TEST_CASE("formulas: the paper's (8) for LA on the oscillator, as the harness de
 }
 
 TEST_CASE("formulas: the paper's (11) for contact on the oscillator: L_mod = (1 + h alpha/2) L", "[symbolic]") {
-  Formulas<OscillatorT, generic::ContactLeft> f(3);
+  Formulas<systems::OscillatorT, generic::ContactLeft> f(3);
   const ex q = f.q(), v = f.v(), al = f.alpha(), z = f.sy.z;
   const ex L = v * v / 2 - q * q / 2 - al * z;
   CHECK(same(f.r.Z[0], L));
@@ -142,10 +118,10 @@ TEST_CASE("formulas: the oscillator's exact all-orders damping, a_k = (-+1)^k al
       }
     };
     if (la) {
-      Formulas<OscillatorT, generic::LaLeft> f(6);
+      Formulas<systems::OscillatorT, generic::LaLeft> f(6);
       check(f);
     } else {
-      Formulas<OscillatorT, generic::ContactLeft> f(6);
+      Formulas<systems::OscillatorT, generic::ContactLeft> f(6);
       check(f);
     }
   }
