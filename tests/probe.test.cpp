@@ -737,7 +737,7 @@ namespace {
 // slots on two cores; LeakSanitizer is off for the ranks (Open MPI's own allocations at MPI_Finalize, see
 // sweep.test.cpp), and a preloaded fault library need not follow AddressSanitizer's runtime.
 Started start_mpi(const std::string& program, const std::vector<std::string>& args, const fs::path& cwd,
-                  const std::string& fault = "", const fs::path& pidfile = {}) {
+                  const std::string& fault = "", const fs::path& pidfile = {}, const std::vector<std::string>& env = {}) {
   std::vector<std::string> words{"-q", "-n", "2"};
   if (!fault.empty())
     words.insert(words.end(), {"-x", std::string("LD_PRELOAD=") + GEOMINT_FAULT_LIBRARY, "-x", "GEOMINT_TEST_FAULT=" + fault});
@@ -746,14 +746,16 @@ Started start_mpi(const std::string& program, const std::vector<std::string>& ar
   words.insert(words.end(), args.begin(), args.end());
   Options opt;
   opt.env = {"OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1", "OMPI_MCA_rmaps_base_oversubscribe=1"};
+  opt.env.insert(opt.env.end(), env.begin(), env.end());
   opt.asan = "detect_leaks=0:verify_asan_link_order=0";
   return start_exe(GEOMINT_MPIEXEC, words, cwd, opt);
 }
 
-Outcome mpi(const std::string& program, const std::vector<std::string>& args, const fs::path& cwd) {
+Outcome mpi(const std::string& program, const std::vector<std::string>& args, const fs::path& cwd,
+            const std::vector<std::string>& env = {}) {
   Options opt;
   opt.seconds = 120;  // a rank left waiting for another is a failure, not a hang of the suite
-  return finish(start_mpi(program, args, cwd), opt);
+  return finish(start_mpi(program, args, cwd, "", {}, env), opt);
 }
 
 // A program without Sweep (its other rank leaves at once) and a sweep program (both ranks compute), tiny runs.
@@ -926,15 +928,40 @@ TEST_CASE("probe (MPI): a sweep into a busy folder is refused on every rank, at 
   REQUIRE(wait_for(first.pid, status, WUNTRACED, 120));
   REQUIRE(WIFSTOPPED(status));
   const auto before = snapshot(out);
-  const auto o = mpi(program, plus(split(ok), {"--out", out.string()}), base);
-  INFO("exit " << o.exit_code << ": " << o.err);
-  CHECK(!o.timed_out);  // no rank left waiting for rank 0
-  CHECK(o.exit_code == 2);
-  CHECK(o.lines() == 1);
-  CHECK(o.err.find("is in use by another run") != std::string::npos);
-  CHECK(snapshot(out) == before);
+  // Launchers differ on a rank that exits nonzero: Open MPI aborts the job by default, Slurm's srun lets the others
+  // run (as Open MPI with orte_abort_on_non_zero_status=0, whose own exit status is then 0). Without that abort,
+  // only the ranks' agreement on rank 0's refusal keeps rank 1 from waiting forever.
+  for (bool launcher_aborts : {true, false}) {
+    const auto o = mpi(program, plus(split(ok), {"--out", out.string()}), base,
+                       launcher_aborts ? std::vector<std::string>{} : std::vector<std::string>{"OMPI_MCA_orte_abort_on_non_zero_status=0"});
+    INFO("launcher aborts: " << launcher_aborts << " -> exit " << o.exit_code << ": " << o.err);
+    CHECK(!o.timed_out);  // no rank left waiting for rank 0
+    CHECK(o.exit_code == (launcher_aborts ? 2 : 0));
+    CHECK(o.lines() == 1);
+    CHECK(o.err.find("is in use by another run") != std::string::npos);
+    CHECK(snapshot(out) == before);
+  }
   kill(first.pid, SIGCONT);
   CHECK(finish(first, {}).exit_code == 0);
+  CHECK(temporaries(out).empty());
+  fs::remove_all(base);
+}
+TEST_CASE("probe (MPI): a commit that fails on rank 0 ends the job with one line and the old outputs", "[probe][mpi]") {
+  // rank 1 has returned and waits in MPI_Finalize for rank 0, which fails alone: it ends the job (MPI_Abort)
+  const auto& [program, ok] = mpi_programs[1];
+  const auto base = fresh_dir("probe-mpi-fail");
+  const auto out = base / "out";
+  REQUIRE(spawn(program, plus(split(ok), {"--out", out.string()}), base).exit_code == 0);
+  const auto before = snapshot(out);
+  Options opt;
+  opt.seconds = 120;
+  const auto o = finish(start_mpi(program, plus(longer(split(ok)), {"--out", out.string()}), base, "fail-move=2"), opt);
+  INFO("exit " << o.exit_code << ": " << o.err);
+  CHECK(!o.timed_out);
+  CHECK(o.exit_code == 1);
+  CHECK(o.lines() == 1);
+  CHECK(o.err.find("Input/output error (the previous outputs are unchanged)") != std::string::npos);
+  CHECK(snapshot(out) == before);
   CHECK(temporaries(out).empty());
   fs::remove_all(base);
 }
