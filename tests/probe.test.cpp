@@ -5,6 +5,8 @@
 // move of its commit and healed by the next, planted symlinks, and the same under mpiexec -n 2. Programs are
 // started with posix_spawn and an argument vector (no shell), so hostile paths reach them byte for byte; faults
 // come from a library the probe preloads (fault_injection.cpp), never from a hook in a program.
+// GEOMINT_PROBE_LOG=<file> appends one line per program run (case, exit status, signal, stderr lines, stopped):
+//   GEOMINT_PROBE_LOG=runs.tsv build/tests/geomint_tests "[probe]"
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -165,6 +167,10 @@ Outcome finish(const Started& s, const Options& opt) {
   ss << in.rdbuf();
   o.err = ss.str();
   fs::remove(s.errfile);
+  if (const char* log = std::getenv("GEOMINT_PROBE_LOG")) {  // for counting: one line per program run
+    std::ofstream(log, std::ios::app) << Catch::getResultCapture().getCurrentTestName() << "\t" << o.exit_code << "\t"
+                                      << o.signal << "\t" << o.lines() << "\t" << o.stopped << "\n";
+  }
   return o;
 }
 
