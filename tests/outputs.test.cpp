@@ -98,27 +98,19 @@ TEST_CASE("a write error is an error, never a truncated file", "[outputs]") {
   rlimit limit = old_limit;
   limit.rlim_cur = 16;
   setrlimit(RLIMIT_FSIZE, &limit);
-  const std::string text(100, 'n');
-  std::string outside, inside;
-  {
-    AtomicFile f(dir / "x.tsv");
-    std::fputs(text.c_str(), f.handle());
+  auto failure = [](const fs::path& p) {  // what writing 100 bytes to p says
+    AtomicFile f(p);
+    std::fputs(std::string(100, 'n').c_str(), f.handle());
     try {
       f.commit();
     } catch (const std::exception& e) {
-      outside = e.what();
+      return std::string(e.what());
     }
-  }
+    return std::string();
+  };
+  const std::string outside = failure(dir / "x.tsv");
   OutputRun& run = OutputRun::start(dir);
-  {
-    AtomicFile f(dir / "y.tsv");
-    std::fputs(text.c_str(), f.handle());
-    try {
-      f.commit();
-    } catch (const std::exception& e) {
-      inside = e.what();
-    }
-  }
+  const std::string inside = failure(dir / "y.tsv");
   setrlimit(RLIMIT_FSIZE, &old_limit);
   sigaction(SIGXFSZ, &old_action, nullptr);
   run.discard();

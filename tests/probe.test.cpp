@@ -601,6 +601,16 @@ Crash crash(const std::string& name, const std::string& fault) {
 Outcome heal(const Crash& c, const Options& opt = {}) {
   return spawn("modified_equation", plus(split(case_of("modified_equation")->ok), {"--out", c.out.string()}), c.base, opt);
 }
+
+// The next run healed the folder to fig1_oscillator's old outputs, and said `what` on its one line.
+void check_healed_to_old(const Crash& c, const Outcome& h, const std::string& what) {
+  INFO("next run -> exit " << h.exit_code << ": " << h.err);
+  CHECK(h.exit_code == 0);
+  CHECK(h.lines() == 1);
+  CHECK(h.err.find(what) != std::string::npos);
+  CHECK(files_of(c.out, "fig1_oscillator") == c.old_files);
+  CHECK(temporaries(c.out).empty());
+}
 }  // namespace
 
 TEST_CASE("probe: a run killed at each move of its commit is finished by the next run into the folder", "[probe]") {
@@ -652,14 +662,7 @@ TEST_CASE("probe: a commit that cannot move a file rolls back, and so does the n
     const auto c = crash("probe-rollback-killed", "fail-move=2,kill-before-move=3");
     CHECK(c.killed.signal == SIGKILL);
     CHECK(has_staging(c.out));
-    const auto h = heal(c);
-    INFO("next run -> exit " << h.exit_code << ": " << h.err);
-    CHECK(h.exit_code == 0);
-    CHECK(h.lines() == 1);
-    CHECK(h.err.find("rolled back the interrupted commit of a run that was killed (it had begun to undo it)") !=
-          std::string::npos);
-    CHECK(files_of(c.out, "fig1_oscillator") == c.old_files);
-    CHECK(temporaries(c.out).empty());
+    check_healed_to_old(c, heal(c), "rolled back the interrupted commit of a run that was killed (it had begun to undo it)");
     fs::remove_all(c.base);
   }
   // killed mid-commit, and the next run cannot finish it (its first move fails): it rolls back instead
@@ -668,19 +671,12 @@ TEST_CASE("probe: a commit that cannot move a file rolls back, and so does the n
     CHECK(c.killed.signal == SIGKILL);
     Options opt;
     opt.fault = "fail-move=1";
-    const auto h = heal(c, opt);
-    INFO("next run -> exit " << h.exit_code << ": " << h.err);
-    CHECK(h.exit_code == 0);
-    CHECK(h.lines() == 1);
-    CHECK(h.err.find("it could not be finished: cannot move") != std::string::npos);
-    CHECK(files_of(c.out, "fig1_oscillator") == c.old_files);
-    CHECK(temporaries(c.out).empty());
+    check_healed_to_old(c, heal(c, opt), "it could not be finished: cannot move");
     fs::remove_all(c.base);
   }
 }
 
 TEST_CASE("probe: a run killed before its commit began leaves the old outputs, and the next run removes its remains", "[probe]") {
-  Options stop;
   for (const std::string fault : {"kill-before-link=1", ""}) {
     // killed while keeping the old files (no journal yet), or mid-run (SIGKILL at the first staged output)
     Crash c;
@@ -697,13 +693,7 @@ TEST_CASE("probe: a run killed before its commit began leaves the old outputs, a
     CHECK(c.killed.signal == SIGKILL);
     CHECK(has_staging(c.out));
     CHECK(files_of(c.out, "fig1_oscillator") == c.old_files);  // untouched before the journal
-    const auto h = heal(c);
-    INFO("next run -> exit " << h.exit_code << ": " << h.err);
-    CHECK(h.exit_code == 0);
-    CHECK(h.lines() == 1);
-    CHECK(h.err.find("removed the staging folder of a run that ended without committing") != std::string::npos);
-    CHECK(files_of(c.out, "fig1_oscillator") == c.old_files);
-    CHECK(temporaries(c.out).empty());
+    check_healed_to_old(c, heal(c), "removed the staging folder of a run that ended without committing");
     fs::remove_all(c.base);
   }
 }
