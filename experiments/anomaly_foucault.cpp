@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
       plan_steps(steps * static_cast<double>(runs * names.size() * constraints.size() * alphas.size()),
                  "the ensemble (runs x schemes x constraints x alpha x T/h)");
     }
-    const auto dir = prepare_output_dir(cli.out);
+    const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
 
     const double s = base.s();
     const auto cases = anomaly_cases(hs, alphas, names, constraints, runs);

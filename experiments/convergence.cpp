@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
       for (double h : hs)
         plan_steps(static_cast<double>(step_count(h, sys.horizon(pv))) * static_cast<double>(schemes.size()),
                    "the sweep (combinations x schemes x T/h)");
-    const auto dir = prepare_output_dir(cli.out);
+    const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const std::string stem = sys.name + "_convergence";
 
     // Every (combination, scheme, h) run is an item of the sweep; a rank computes the reference of a combination

@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
     }
     const ParamValues pv{{"alpha", alpha}};
     for (const auto& s : systems) find_system(s).validate(pv);
-    const auto dir = prepare_output_dir(cli.out);
+    const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const double floor = 1e2 * tol;
     std::vector<double> order_values(orders.begin(), orders.end());
     const Params params{{"systems", join_names(systems)}, {"schemes", join_names(schemes)},

@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
     require(h_max > h_min && std::isfinite(h_max), "h-max must be finite and exceed h-min");
     require(a_max > a_min && std::isfinite(a_max), "alpha-max must be finite and exceed alpha-min");
     for (const auto& s : names) all_orders_by_name(s, 0.1, 0.1);  // unknown names fail here
-    const auto dir = prepare_output_dir(cli.out);
+    const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const Sweep& sweep = Sweep::world();
 
     std::vector<double> hs, as;
@@ -176,7 +176,7 @@ int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<s
   names = sysopt.schemes(names);
   const ParamValues base = sysopt.values();
   for (const auto& [k, v] : base) require(k != "alpha", "alpha is an axis of the map: give --alpha-min/--alpha-max");
-  const auto dir = prepare_output_dir(cli.out);
+  const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
   const Sweep& sweep = Sweep::world();
   const int N = 2 * sys.dof;
   std::vector<double> hs, as;

@@ -1,10 +1,17 @@
-// Issue 10 at the level of the shared code: OutputRun (a run's outputs all new or all old), checked writers,
-// gnuplot without user text, the command line's strictness, and the size checks.
+// The output machinery at the level of the shared code: OutputRun (a run's outputs all new or all old, one run per
+// folder, a killed run healed), checked writers that follow no symlink, gnuplot without user text, the command
+// line's strictness, and the size checks. tests/probe.test.cpp drives the same through the programs.
 #include <catch2/catch.hpp>
 
 #include <climits>
+#include <csignal>
+#include <fcntl.h>
 #include <fstream>
+#include <functional>
 #include <sstream>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
@@ -78,16 +85,139 @@ TEST_CASE("a discarded run leaves the old outputs and no temporary", "[outputs]"
 }
 
 TEST_CASE("a write error is an error, never a truncated file", "[outputs]") {
-  // /dev/full: every write fails with ENOSPC. Outside a run AtomicFile writes <name>.tmp beside the target,
-  // so a symlink from the temporary name to /dev/full is a full disk for this one file.
-  const auto dir = fresh_dir("devfull");
+  // A file size limit of 16 bytes (with SIGXFSZ ignored, a write beyond it fails with EFBIG): a full disk for the
+  // files this process writes, inside a run and outside one.
+  const auto dir = fresh_dir("write-error");
   std::ofstream(dir / "x.tsv") << "old\n";
-  fs::create_symlink("/dev/full", dir / "x.tsv.tmp");
-  AtomicFile f(dir / "x.tsv");
-  std::fputs("new\n", f.handle());
-  CHECK_THROWS_WITH(f.commit(), Catch::Contains("No space left on device"));
+  std::ofstream(dir / "y.tsv") << "old\n";
+  struct sigaction ignore {}, old_action {};
+  ignore.sa_handler = SIG_IGN;
+  sigaction(SIGXFSZ, &ignore, &old_action);
+  rlimit old_limit {};
+  getrlimit(RLIMIT_FSIZE, &old_limit);
+  rlimit limit = old_limit;
+  limit.rlim_cur = 16;
+  setrlimit(RLIMIT_FSIZE, &limit);
+  auto failure = [](const fs::path& p) {  // what writing 100 bytes to p says
+    AtomicFile f(p);
+    std::fputs(std::string(100, 'n').c_str(), f.handle());
+    try {
+      f.commit();
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string outside = failure(dir / "x.tsv");
+  OutputRun& run = OutputRun::start(dir);
+  const std::string inside = failure(dir / "y.tsv");
+  setrlimit(RLIMIT_FSIZE, &old_limit);
+  sigaction(SIGXFSZ, &old_action, nullptr);
+  run.discard();
+  CHECK_THAT(outside, Catch::Contains("File too large") && Catch::Contains("previous file is unchanged"));
+  CHECK_THAT(inside, Catch::Contains("File too large"));
   CHECK(slurp(dir / "x.tsv") == "old\n");
-  CHECK(!fs::exists(dir / "x.tsv.tmp"));
+  CHECK(slurp(dir / "y.tsv") == "old\n");
+  CHECK(entries(dir) == 2);  // no temporary, no staging folder, no lock
+}
+
+TEST_CASE("a file written outside a run replaces a symlink in its place and never writes through it", "[outputs]") {
+  const auto base = fresh_dir("atomic-symlink");
+  std::ofstream(base / "victim.txt") << "victim\n";
+  fs::create_directories(base / "d");
+  fs::create_symlink("../victim.txt", base / "d" / "x.tsv");
+  AtomicFile f(base / "d" / "x.tsv");
+  CHECK(f.temp_path().filename().string().rfind(".geomint-tmp-", 0) == 0);  // a fresh name, created exclusively
+  std::fputs("new\n", f.handle());
+  f.commit();
+  CHECK(slurp(base / "victim.txt") == "victim\n");
+  CHECK(!fs::is_symlink(base / "d" / "x.tsv"));
+  CHECK(slurp(base / "d" / "x.tsv") == "new\n");
+  CHECK(entries(base / "d") == 1);
+}
+
+namespace {
+// What `body` writes on stderr (file descriptor 2), as the programs' one-line notes are written.
+std::string stderr_of(const std::function<void()>& body) {
+  const auto file = fresh_dir("stderr-capture") / "err.txt";
+  std::fflush(stderr);
+  const int saved = dup(2);
+  const int fd = open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  dup2(fd, 2);
+  close(fd);
+  body();
+  dup2(saved, 2);
+  close(saved);
+  return slurp(file);
+}
+}  // namespace
+
+TEST_CASE("one run per output folder: a second one is refused while the first holds the folder", "[outputs]") {
+  const auto dir = fresh_dir("run-lock");
+  int to_child[2], to_parent[2];
+  REQUIRE(pipe(to_child) == 0);
+  REQUIRE(pipe(to_parent) == 0);
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {  // the first run: takes the folder, says so, waits, ends cleanly
+    char c = 0;
+    try {
+      OutputRun& run = OutputRun::start(dir);
+      c = 'L';
+      if (write(to_parent[1], &c, 1) != 1) _exit(3);
+      if (read(to_child[0], &c, 1) != 1) _exit(3);
+      run.discard();
+      _exit(0);
+    } catch (...) {
+      _exit(4);
+    }
+  }
+  char c = 0;
+  REQUIRE(read(to_parent[0], &c, 1) == 1);
+  REQUIRE(c == 'L');
+  const auto before = entries(dir);  // the child's staging folder and lock file
+  CHECK(before == 2);
+  CHECK_THROWS_WITH(OutputRun::start(dir), Catch::Contains("is in use by another run (process " + std::to_string(child)) &&
+                                               Catch::Contains("choose another --out"));
+  CHECK(entries(dir) == before);
+  CHECK(OutputRun::current() == nullptr);
+  REQUIRE(write(to_child[1], &c, 1) == 1);
+  int status = 0;
+  waitpid(child, &status, 0);
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  CHECK(entries(dir) == 0);  // the first run ended: its lock file went with it
+  OutputRun& run = OutputRun::start(dir);  // and the folder is free
+  CHECK(entries(dir) == 2);
+  run.discard();
+  CHECK(entries(dir) == 0);
+}
+
+TEST_CASE("a killed run's staging folder is removed by the next run into the folder, which says so", "[outputs]") {
+  const auto dir = fresh_dir("run-killed");
+  std::ofstream(dir / "a.tsv") << "old a\n";
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {  // a run that stages a new a.tsv and dies without committing
+    OutputRun::start(dir);
+    AtomicFile f(dir / "a.tsv");
+    std::fputs("new a\n", f.handle());
+    f.commit();
+    raise(SIGKILL);
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  REQUIRE(WIFSIGNALED(status));
+  CHECK(entries(dir) == 3);  // a.tsv, the staging folder, the (unlocked) lock file
+  std::string note = stderr_of([&] { OutputRun::start(dir); });
+  CHECK_THAT(note, Catch::Contains("output folder '" + dir.string() +
+                                   "': removed the staging folder of a run that ended without committing"));
+  CHECK(std::count(note.begin(), note.end(), '\n') == 1);
+  CHECK(entries(dir) == 3);  // a.tsv, this run's staging folder and lock
+  OutputRun::current()->discard();
+  CHECK(slurp(dir / "a.tsv") == "old a\n");
+  CHECK(entries(dir) == 1);
 }
 
 TEST_CASE("figures are drawn into hostile paths without gnuplot seeing them", "[outputs]") {

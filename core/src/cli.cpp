@@ -1,13 +1,16 @@
 #include "geomint/cli.hpp"
 
+#include <cerrno>
 #include <cstdio>
 #include <iostream>
 #include <set>
+#include <unistd.h>
 
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/record.hpp"
+#include "geomint/sweep.hpp"
 
 namespace geomint {
 
@@ -40,7 +43,7 @@ bool Cli::parse(int argc, char** argv) {
                          o.string_key + ")");
     po::store(parsed, vm);
     if (vm.count("help")) {
-      std::cout << program << ": " << summary << "\n\n" << options << "\n";
+      if (Sweep::launcher_rank() == 0) std::cout << program << ": " << summary << "\n\n" << options << "\n";
       return false;
     }
     po::notify(vm);
@@ -57,28 +60,54 @@ std::string g_program = "geomint";
 
 const std::string& program_name() { return g_program; }
 
-void report_missing(const std::string& context, const std::string& what) {
-  std::string line = g_program + ": " + context + ": " + what + " (recorded as a missing value)";
-  for (char& c : line)
-    if (c == '\n') c = ' ';
-  std::fprintf(stderr, "%s\n", line.c_str());
-}
-
-namespace {
-// A message on one line whatever it quotes (a path may hold a newline).
 std::string one_line(const std::string& s) {
   std::string out;
   for (char c : s) out += c == '\n' ? std::string("\\n") : c == '\r' ? std::string("\\r") : std::string(1, c);
   return out;
 }
+
+void print_line(const std::string& text) {
+  const std::string line = text + '\n';
+  for (std::size_t done = 0; done < line.size();) {
+    const ssize_t n = ::write(2, line.data() + done, line.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+namespace {
+// The name a line starts with: the program's, and on an MPI rank other than 0 the rank's too.
+std::string speaker() {
+  const int rank = Sweep::launcher_rank();
+  return rank == 0 ? g_program : g_program + " (rank " + std::to_string(rank) + ")";
+}
 }  // namespace
+
+void report_missing(const std::string& context, const std::string& what) {
+  std::string line = speaker() + ": " + context + ": " + what + " (recorded as a missing value)";
+  for (char& c : line)
+    if (c == '\n') c = ' ';
+  print_line(line);
+}
 
 int guarded_main(const std::string& program, const std::function<int()>& body) {
   g_program = program;
+  // Rank 0 speaks for the run. An input error is met identically by every rank (each validates the same command
+  // line), so only rank 0 reports it: one line in all under mpiexec. Any other error may be one rank's own, so
+  // the rank that meets it reports it, named. (A memory check refused on one rank's machine alone is the one
+  // input error that can differ: that rank ends silently, and its launcher reports its exit status.)
+  const bool root = Sweep::launcher_rank() == 0;
+  if (root) handle_interrupts();
   // The run's outputs (OutputRun, started by prepare_output_dir) move into place only when the body succeeds;
   // any other way out discards them, and the previous outputs stay.
   auto discard = [] {
     if (OutputRun* r = OutputRun::current()) r->discard();
+  };
+  // A rank that fails alone under MPI ends the others (which would otherwise wait for it forever).
+  auto fail = [](int status) {
+    Sweep::abort_all(status);
+    return status;
   };
   try {
     const int status = body();
@@ -88,19 +117,24 @@ int guarded_main(const std::string& program, const std::function<int()>& body) {
       else
         r->discard();
     }
-    return status;
+    return status == 0 ? 0 : fail(status);
+  } catch (const OtherRankDone&) {
+    return 0;
   } catch (const InputError& e) {
     discard();
-    std::cerr << program << ": error: " << one_line(e.what()) << "\n";
-    return 2;
+    // Before MPI starts every rank is validating the same command line; after it (a sweep past
+    // prepare_output_dir) an input error can be this rank's alone, unless it is the folder's agreed outcome.
+    const bool agreed = dynamic_cast<const OutputFolderRefused*>(&e) != nullptr;
+    if (root || (!agreed && Sweep::started())) print_line(speaker() + ": error: " + one_line(e.what()));
+    return agreed ? 2 : fail(2);
   } catch (const NumericalFailure& e) {
     discard();
-    std::cerr << program << ": " << one_line(e.what()) << "\n";
-    return 3;
+    print_line(speaker() + ": " + one_line(e.what()));
+    return fail(3);
   } catch (const std::exception& e) {
     discard();
-    std::cerr << program << ": error: " << one_line(e.what()) << "\n";
-    return 1;
+    print_line(speaker() + ": error: " + one_line(e.what()));
+    return fail(1);
   }
 }
 

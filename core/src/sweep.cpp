@@ -58,6 +58,53 @@ Sweep::Sweep() {
 #endif
 }
 
+int Sweep::launcher_rank() {
+  static const int rank = [] {
+    for (const char* v : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+      if (const char* r = std::getenv(v)) {
+        char* end = nullptr;
+        const long n = std::strtol(r, &end, 10);
+        if (end != r && *end == 0 && n >= 0 && n <= INT_MAX) return static_cast<int>(n);
+      }
+    return launched_by_mpi() ? world().rank() : 0;
+  }();
+  return rank;
+}
+
+std::string Sweep::broadcast(const std::string& from_root) const {
+  if (size_ <= 1) return from_root;
+#ifdef GEOMINT_HAVE_MPI
+  unsigned long long n = root() ? from_root.size() : 0;
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  std::string s = root() ? from_root : std::string(static_cast<std::size_t>(n), '\0');
+  if (n > 0) MPI_Bcast(s.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+  return s;
+#else
+  return from_root;
+#endif
+}
+
+bool Sweep::started() {
+#ifdef GEOMINT_HAVE_MPI
+  int initialized = 0, finalized = 0, size = 1;
+  MPI_Initialized(&initialized);
+  MPI_Finalized(&finalized);
+  if (!initialized || finalized) return false;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size > 1;
+#else
+  return false;
+#endif
+}
+
+void Sweep::abort_all(int status) {
+#ifdef GEOMINT_HAVE_MPI
+  if (started()) MPI_Abort(MPI_COMM_WORLD, status);
+#else
+  (void)status;
+#endif
+}
+
 const Sweep& Sweep::world() {
   static const Sweep s;
   return s;

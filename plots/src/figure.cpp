@@ -11,6 +11,7 @@
 #include <fstream>
 #include <spawn.h>
 #include <sstream>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -130,7 +131,7 @@ void log_axes(const std::string& setup, bool& logx, bool& logy) {
 }
 
 // A line of gnuplot's error output as one line of ours: what gnuplot said, lines joined, echoes dropped.
-std::string one_line(const std::string& text) {
+std::string gnuplot_message(const std::string& text) {
   std::string out;
   std::istringstream in(text);
   std::string line;
@@ -144,9 +145,33 @@ std::string one_line(const std::string& text) {
   return out.empty() ? "no message" : out;
 }
 
-// Runs gnuplot with `cwd` as its working directory (no shell: posix_spawnp), the script on its standard input,
-// its standard error captured in a program-named file there. Throws with gnuplot's message unless it exits 0.
-void run_gnuplot(const fs::path& cwd, const std::string& script, const std::string& errname) {
+// A file of ours in the folder `dir_fd` (whole, or its last `tail` bytes), "" when it cannot be read.
+std::string read_at(int dir_fd, const std::string& name, std::size_t tail = std::string::npos) {
+  const int fd = ::openat(dir_fd, name.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return "";
+  struct stat st;
+  std::string s;
+  if (::fstat(fd, &st) == 0 && st.st_size > 0) {
+    const auto size = static_cast<std::size_t>(st.st_size);
+    const std::size_t n = std::min(size, tail), from = size - n;
+    s.resize(n);
+    std::size_t done = 0;
+    while (done < n) {
+      const ssize_t r = ::pread(fd, s.data() + done, n - done, static_cast<off_t>(from + done));
+      if (r < 0 && errno == EINTR) continue;
+      if (r <= 0) break;
+      done += static_cast<std::size_t>(r);
+    }
+    s.resize(done);
+  }
+  ::close(fd);
+  return s;
+}
+
+// Runs gnuplot in the folder `dir_fd` (its working directory, entered by descriptor; no shell: posix_spawnp),
+// the script on its standard input, its standard error captured in a program-named file there (created
+// exclusively). Throws with gnuplot's message unless it exits 0.
+void run_gnuplot(int dir_fd, const std::string& script, const std::string& errname) {
   static const bool pipe_ignored = [] {
     std::signal(SIGPIPE, SIG_IGN);  // a gnuplot that died is reported by its status, not by killing us
     return true;
@@ -157,16 +182,23 @@ void run_gnuplot(const fs::path& cwd, const std::string& script, const std::stri
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_adddup2(&fa, fds[0], 0);
-  posix_spawn_file_actions_addchdir_np(&fa, cwd.c_str());
+  posix_spawn_file_actions_addfchdir_np(&fa, dir_fd);
   posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 2, errname.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_addopen(&fa, 2, errname.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW, 0600);
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
-  sigset_t def;
+  // gnuplot starts with the default action for every signal we handle (a signal ignored by whoever started us
+  // stays ignored for it too), and none blocked.
+  sigset_t def, none;
   sigemptyset(&def);
-  for (int s : {SIGPIPE, SIGINT, SIGTERM}) sigaddset(&def, s);
+  sigemptyset(&none);
+  for (int s : {SIGPIPE, SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGXCPU, SIGXFSZ}) {
+    struct sigaction old {};
+    if (::sigaction(s, nullptr, &old) != 0 || old.sa_handler != SIG_IGN || s == SIGPIPE) sigaddset(&def, s);
+  }
   posix_spawnattr_setsigdefault(&attr, &def);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF);
+  posix_spawnattr_setsigmask(&attr, &none);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
   char arg0[] = "gnuplot";
   char* argv[] = {arg0, nullptr};
   pid_t pid = 0;
@@ -193,34 +225,20 @@ void run_gnuplot(const fs::path& cwd, const std::string& script, const std::stri
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   OutputRun::set_helper(-static_cast<long>(pid));
-  std::string err;
-  {
-    std::ifstream in(cwd / errname);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    err = ss.str();
-  }
-  std::error_code ec;
-  fs::remove(cwd / errname, ec);
+  const std::string err = read_at(dir_fd, errname);
+  ::unlinkat(dir_fd, errname.c_str(), 0);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw std::runtime_error("gnuplot failed (" +
                              (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
                                                 : "signal " + std::to_string(WTERMSIG(status))) +
-                             "): " + one_line(err));
+                             "): " + gnuplot_message(err));
 }
 
 // Is the file gnuplot wrote complete? A PNG ends with its IEND chunk, a PDF with %%EOF: a full disk or a
 // killed gnuplot leaves neither.
-bool complete(const fs::path& file, const std::string& ext) {
-  std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in) return false;
-  const auto size = static_cast<long>(in.tellg());
-  const long tail = std::min<long>(size, 32);
-  if (tail < 8) return false;
-  std::string t(static_cast<std::size_t>(tail), '\0');
-  in.seekg(size - tail);
-  in.read(t.data(), tail);
-  if (!in) return false;
+bool complete(int dir_fd, const std::string& name, const std::string& ext) {
+  const std::string t = read_at(dir_fd, name, 32);
+  if (t.size() < 8) return false;
   if (ext == ".png") return t.compare(t.size() - 8, 8, std::string("IEND\xae\x42\x60\x82", 8)) == 0;
   return t.find("%%EOF") != std::string::npos;
 }
@@ -316,20 +334,21 @@ std::string render_script(const Figure& fig, const std::string& terminal, const 
   return gp;
 }
 
-// Draws into `dir` (a folder of ours) under program-chosen names and returns the complete file's path.
-fs::path render(const Figure& fig, const std::string& terminal, const std::string& ext, const fs::path& dir,
-                const std::string& prefix) {
+// Draws into the folder `dir_fd` (ours) under a program-chosen name and returns the complete file's name there.
+std::string render(const Figure& fig, const std::string& terminal, const std::string& ext, int dir_fd,
+                   const std::string& prefix) {
   const std::string name = prefix + "output" + ext;
-  run_gnuplot(dir, render_script(fig, terminal, name), prefix + "stderr.txt");
-  if (!complete(dir / name, ext))
+  run_gnuplot(dir_fd, render_script(fig, terminal, name), prefix + "stderr.txt");
+  if (!complete(dir_fd, name, ext))
     throw std::runtime_error("gnuplot could not finish the " + ext.substr(1) +
                              " file (disk full or write error?): the previous figure is unchanged");
-  return dir / name;
+  return name;
 }
 
 }  // namespace
 
 void Figure::draw(const std::filesystem::path& stem) const {
+  require_output_rank(stem);
   const std::string size_px = std::to_string(static_cast<int>(width_in * 140)) + "," +
                               std::to_string(static_cast<int>(height_in * 140));
   const std::string size_in = std::to_string(width_in) + "in," + std::to_string(height_in) + "in";
@@ -341,50 +360,61 @@ void Figure::draw(const std::filesystem::path& stem) const {
   // gnuplot works in a folder of ours (the run's staging folder, or a private one beside the figure when no
   // run is active) and sees only names we chose there: the user's path never reaches it.
   OutputRun* run = OutputRun::current();
-  fs::path png_final = stem, dummy = stem;
+  fs::path png_final = stem;
   png_final += ".png";
   const bool staged = run && run->owns(png_final);
   fs::path work;
+  int work_fd = -1;
   if (staged) {
-    work = run->staging();
+    work_fd = run->staging_fd();
   } else {
     const fs::path parent = stem.parent_path().empty() ? fs::path(".") : stem.parent_path();
     std::string tmpl = (parent / ".geomint-figure-XXXXXX").string();
     if (::mkdtemp(tmpl.data()) == nullptr)
       throw std::runtime_error("cannot write in '" + parent.string() + "': " + std::strerror(errno));
     work = tmpl;
+    work_fd = ::open(work.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (work_fd < 0) {
+      const int e = errno;
+      std::error_code ec;
+      fs::remove_all(work, ec);
+      throw std::runtime_error("cannot write in '" + parent.string() + "': " + std::strerror(e));
+    }
   }
   // Figures may be drawn from several threads at once: each draw has names of its own.
   static std::atomic<unsigned> draws{0};
   const std::string prefix = "gnuplot-" + std::to_string(draws++) + "-";
   struct Cleanup {
-    fs::path dir;
+    int dir_fd;
+    fs::path dir;  // our private folder, or empty (the staging folder is the run's)
     std::string prefix;
-    bool remove_dir;
     ~Cleanup() {
-      std::error_code ec;
-      for (const char* n : {"output.png", "output.pdf", "stderr.txt"}) fs::remove(dir / (prefix + n), ec);
-      if (remove_dir) fs::remove_all(dir, ec);
+      for (const char* n : {"output.png", "output.pdf", "stderr.txt"}) ::unlinkat(dir_fd, (prefix + n).c_str(), 0);
+      if (!dir.empty()) {
+        ::close(dir_fd);
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+      }
     }
-  } cleanup{work, prefix, !staged};
-  std::vector<std::pair<fs::path, fs::path>> done;  // rendered file -> final path
+  } cleanup{work_fd, work, prefix};
   for (const auto& o : outs) {
     fs::path final_path = stem;
     final_path += o.ext;
-    const fs::path file = render(*this, o.terminal, o.ext, work, prefix);
-    const fs::path ready = staged ? run->staged(final_path) : work / (std::string("ready") + o.ext);
-    std::error_code ec;
-    fs::rename(file, ready, ec);
-    if (ec) throw std::runtime_error("cannot write figure '" + final_path.string() + "': " + ec.message());
-    done.emplace_back(ready, final_path);
-  }
-  for (const auto& [ready, final_path] : done) {
+    const std::string file = render(*this, o.terminal, o.ext, work_fd, prefix);
     if (staged) {
-      run->add(final_path);
+      run->place(file, final_path);  // moved to final_path with the run's other outputs at commit
       continue;
     }
+    const std::string ready = std::string("ready") + o.ext;
+    if (::renameat(work_fd, file.c_str(), work_fd, ready.c_str()) != 0)
+      throw std::runtime_error("cannot write figure '" + final_path.string() + "': " + std::strerror(errno));
+  }
+  if (staged) return;
+  for (const auto& o : outs) {  // both complete: now into place
+    fs::path final_path = stem;
+    final_path += o.ext;
     std::error_code ec;
-    fs::rename(ready, final_path, ec);
+    fs::rename(work / (std::string("ready") + o.ext), final_path, ec);
     if (ec) throw std::runtime_error("cannot write figure '" + final_path.string() + "': " + ec.message());
   }
 }

@@ -16,6 +16,10 @@ namespace geomint {
 const std::string& program_name();
 // Prints the one-line message above on stderr.
 void report_missing(const std::string& context, const std::string& what);
+// Text on one line whatever it quotes (a path may hold a newline): \n and \r written as escapes.
+std::string one_line(const std::string& s);
+// `line` and a newline on stderr in one write(2): under mpiexec the ranks' lines arrive whole, never interleaved.
+void print_line(const std::string& line);
 
 // Runs run(); a NumericalFailure, an Odeint failure (step size underflow, too many steps) or a domain error
 // (a solver that left its domain) is reported with `context` (scheme, parameters) and on_failure() gives the

@@ -4,8 +4,9 @@
 //
 // How a program adopts it (anomaly_foucault and stability_oscillator do exactly this):
 //
-//   const auto& sweep = Sweep::world();              // rank/size; no MPI unless started by mpirun
 //   ... parse and validate the options (every rank does, identically) ...
+//   const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);  // every rank goes on (io.hpp)
+//   const auto& sweep = Sweep::world();              // rank/size; no MPI unless started by mpirun
 //   std::vector<Result> results = sweep.map<Result>(
 //       n_items, cost,                                // cost[i]: relative cost of item i (empty: equal)
 //       [&](std::size_t first, std::size_t last) {    // this rank's items, in order
@@ -14,6 +15,10 @@
 //   if (!sweep.root()) return 0;                      // only rank 0 holds the results and writes files
 //   ... write outputs from `results` exactly as before ...
 //
+// A program that does not call map() keeps prepare_output_dir's default, OtherRanks::leave: its other ranks end
+// there at once (exit 0, without starting MPI) and rank 0 runs it alone. Only rank 0 writes, in either case: the
+// writers refuse on any other rank (output_run.hpp), and rank 0 alone reports input errors, so a bad option under
+// mpiexec is one line in all.
 // - In a single process (a build without MPI, or a program not started by an MPI launcher) map() is
 //   compute(0, n): no copy, no serialization, nothing else changes.
 // - Under `mpirun -n N` each rank computes one contiguous share of [0, n) (share(): equal cost per rank, a
@@ -25,7 +30,8 @@
 //   their bytes: bit-exact, no decimal round trip.
 // - MPI is detected at run time from the launcher's environment (Open MPI, MPICH/Hydra, PMIx, Slurm's PMI)
 //   and initialized on first use of world(), finalized at exit. Every rank must reach map(): validate input
-//   identically on every rank before it (an error on one rank alone would leave the others waiting).
+//   identically on every rank before it. A rank that fails alone once MPI has started ends them all
+//   (guarded_main calls abort_all): the others would otherwise wait for it forever.
 #include <cstddef>
 #include <cstring>
 #include <functional>
@@ -113,6 +119,21 @@ class Sweep {
   bool root() const { return rank_ == 0; }
   bool distributed() const { return size_ > 1; }
   static bool mpi_available();  // was the build made with MPI
+
+  // This process's rank as its MPI launcher announced it in the environment (OMPI_COMM_WORLD_RANK, PMIX_RANK,
+  // PMI_RANK), known before MPI starts and without starting it: 0 in a process no MPI launcher started. Rank 0
+  // speaks for a run (its errors, its interrupt line, --help) and alone writes its outputs. A launcher that
+  // names no rank: MPI is started to ask.
+  static int launcher_rank();
+  // Rank 0's text on every rank, a collective (every rank calls it); a single process gets its own back. How
+  // the ranks agree on an outcome only rank 0 can know (its output folder could be prepared).
+  std::string broadcast(const std::string& from_root) const;
+  // A rank that fails alone ends them all (MPI_Abort with `status`, the launcher's exit status then) when MPI
+  // was started and more than one rank runs; otherwise returns. Without it the others would wait forever in
+  // the next collective, and the failed rank with them in MPI_Finalize.
+  static void abort_all(int status);
+  // Has MPI been started (and not yet finalized) with more than one rank?
+  static bool started();
 
   // This rank's share [first, last) of items [0, n): contiguous, in rank order, with about equal total cost
   // (cost[i] >= 0; empty: every item costs 1).
