@@ -27,6 +27,7 @@ stability_oscillator --system coupled-oscillators --n 60
 long_horizon_oscillator
 long_horizon_foucault
 long_horizon_forced
+kepler_anchor
 endef
 export FIGURE_COMMANDS
 
