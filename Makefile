@@ -76,7 +76,8 @@ figures: build
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
-# Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor
+# Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor; the
+# generic step against the closed forms; a composition step against its stages alone
 # (Google Benchmark; timings: never part of make test).
 bench: build
 	@mkdir -p $(OUT)
@@ -85,6 +86,8 @@ bench: build
 	@$(BUILD)/experiments/bench_ensembles --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_generic --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_compose --out $(OUT)
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

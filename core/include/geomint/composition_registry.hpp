@@ -32,6 +32,11 @@ struct CompositionInfo {
   double (*seconds_per_run)(const ParamValues&, const std::string& name, double h, int reps) = nullptr;
   // The base scheme's step of h then -h, from the state after `steps` steps of h from the initial data.
   SymmetryDefect (*symmetry)(const ParamValues&, const std::string& base, double h, long steps) = nullptr;
+  // For benchmarks (bench_compose): N steps from the initial data, nothing stored, returning the Newton updates
+  // they took — of the composition `name` at step h, or of the base scheme alone at step h (any nonzero h, not
+  // tied to T: a stage's step).
+  long (*steps)(const ParamValues&, const std::string& name, double h, long N) = nullptr;
+  long (*base_steps)(const ParamValues&, const std::string& base, double h, long N) = nullptr;
 };
 
 const std::vector<CompositionInfo>& all_compositions();

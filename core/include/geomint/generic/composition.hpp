@@ -50,14 +50,16 @@ class Composition {
   Composition(const Sys& sys, const CompositionFamily& family, T h, T t0 = T(0))
       : family_(family.name), h_(h), t0_(t0) {
     require(!family.weights.empty(), "composition family '" + family.name + "' has no weights");
-    long double c = 0;
+    long double c = 0;  // c_i = w_1 + ... + w_{i-1}, summed in long double
+    const auto H = static_cast<long double>(h);
     for (const long double w : family.weights) {
+      offset_.push_back(static_cast<T>(c * H));
+      ratio_.push_back(weights_.empty() || weights_.back() == 0 ? T(0) : static_cast<T>(w / weights_.back()));
       weights_.push_back(w);
-      c_.push_back(c);
-      stages_.emplace_back(sys, static_cast<T>(w * static_cast<long double>(h)), t0);
+      stages_.emplace_back(sys, static_cast<T>(w * H), t0);
       c += w;
     }
-    c_.push_back(c);
+    offset_.push_back(static_cast<T>(c * H));
     history_.resize(stages_.size());
   }
 
@@ -99,9 +101,9 @@ class Composition {
     for (std::size_t i = 0; i < s; ++i) {
       Stage& st = stages_[i];
       in.j = j;
-      in.t = tj + stage_offset(i);
+      in.t = tj + offset_[i];
       in.lambda = st.state().lambda;  // the stage's own last impulse: the size of its unknown lambda
-      const T t_next = i + 1 == s ? t0_ + T(j + 1) * h_ : tj + stage_offset(i + 1);
+      const T t_next = i + 1 == s ? t0_ + T(j + 1) * h_ : tj + offset_[i + 1];
       try {
         if (i == 0 && from_start_)
           st.step();  // from the state start() gave it, with its Taylor predictor
@@ -153,8 +155,6 @@ class Composition {
     int count = 0;
   };
 
-  T stage_offset(std::size_t i) const { return static_cast<T>(c_[i] * static_cast<long double>(h_)); }
-
   void reset_history() {
     for (auto& h : history_) h = History{};
   }
@@ -181,8 +181,8 @@ class Composition {
       y = 2 * h.y0 - h.y1;
     else if (h.count == 1)
       y = h.y0;
-    else if (i > 0 && history_[i - 1].count > 0 && weights_[i - 1] != 0)
-      y = static_cast<T>(weights_[i] / weights_[i - 1]) * history_[i - 1].y0;
+    else if (i > 0 && history_[i - 1].count > 0)
+      y = ratio_[i] * history_[i - 1].y0;
     VecK x = y;
     x.template head<n>() += in.q;
     if constexpr (nz == 1) x(n) += in.z;
@@ -190,7 +190,9 @@ class Composition {
   }
 
   std::string family_;
-  std::vector<long double> weights_, c_;  // c_i = w_1 + ... + w_{i-1}, i = 1..s+1
+  std::vector<long double> weights_;
+  std::vector<T> offset_;  // c_i h: stage i starts at t_j + c_i h (i = 1..s+1)
+  std::vector<T> ratio_;   // w_i / w_{i-1} (0 for the first stage)
   std::vector<Stage> stages_;
   std::vector<History> history_;
   T h_, t0_;

@@ -209,6 +209,30 @@ CompositionInfo make_composition_info() {
       return st.median;
     });
   };
+  info.steps = [](const ParamValues& pv, const std::string& name, double h, long N) {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    require(std::isfinite(h) && h != 0 && N >= 0, "steps needs a finite nonzero h and N >= 0");
+    return visit_composition<Sys>(name, [&](auto g, const CompositionFamily& f) {
+      Composition<Sys, decltype(g)> c(sys, f, h);
+      c.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
+      for (long j = 0; j < N; ++j) c.step();
+      do_not_optimize(c.state().q(0));
+      return c.total_updates();
+    });
+  };
+  info.base_steps = [](const ParamValues& pv, const std::string& base, double h, long N) {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    require(std::isfinite(h) && h != 0 && N >= 0, "base_steps needs a finite nonzero h and N >= 0");
+    return visit_composable<Sys>(base, [&](auto g) {
+      Stepper<Sys, decltype(g)> st(sys, h);
+      st.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
+      for (long j = 0; j < N; ++j) st.step();
+      do_not_optimize(st.state().q(0));
+      return st.total_updates();
+    });
+  };
   info.symmetry = [](const ParamValues& pv, const std::string& base, double h, long steps) {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
