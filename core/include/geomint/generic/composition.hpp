@@ -74,12 +74,7 @@ class Composition {
 
   // Starts from a discrete state (q_j, p_j, z_j) at step j (no velocity: the first stage starts Newton at q_j).
   void restart(long j, const VecN& q, const VecN& p, T z) {
-    s_ = State{};
-    s_.j = j;
-    s_.t = t0_ + T(j) * h_;
-    s_.q = q;
-    s_.p = p;
-    s_.z = z;
+    s_ = State{j, t0_ + T(j) * h_, q, p, z, VecM::Zero()};
     from_start_ = false;
     reset_history();
   }

@@ -95,33 +95,14 @@ Run run_composition(const Sys& sys, const CompositionFamily& family, const std::
   constexpr int n = Sys::dof, m = Sys::constraints;
   require(every >= 1, "every must be a positive integer");
   const long N = step_count(h, horizon_of(sys));
-  Run run;
-  run.n = n;
-  run.m = m;
-  run.contact = G::contact;
-  run.steps = N;
+  Run run = empty_run<Sys>(G::contact, N);
   long newton_sum = 0;
   try {
     drive_composition<Sys, G>(sys, family, h, N, [&](const StepView<double, n, m>& s, int updates, double phid) {
       run.max_phi_d = std::max(run.max_phi_d, phid);
       newton_sum += updates;
       if (s.j % every != 0 && s.j != N) return;
-      const Vec<double, n> v = velocity_from_momentum(sys, G::contact, s.t, s.q, s.p, s.z);
-      run.j.push_back(s.j);
-      run.t.push_back(s.t);
-      for (int i = 0; i < n; ++i) {
-        run.q.push_back(s.q(i));
-        run.p.push_back(s.p(i));
-        run.v.push_back(v(i));
-      }
-      run.z.push_back(s.z);
-      for (int c = 0; c < m; ++c) run.lambda.push_back(s.lambda(c));
-      run.energy.push_back(energy(sys, s.t, s.q, v));
-      double phi = 0;
-      if constexpr (m > 0) phi = constraint<Sys, double>(sys, s.t, s.q, v).template lpNorm<Eigen::Infinity>();
-      run.phi_d.push_back(phid);
-      run.phi.push_back(phi);
-      run.newton.push_back(updates);
+      append_step(run, sys, G::contact, s, phid, updates);
     });
   } catch (const NumericalFailure& e) {
     throw e.within(composition_context<Sys>(name, h));
