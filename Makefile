@@ -29,6 +29,7 @@ stability_oscillator --system coupled-oscillators --n 60
 long_horizon_oscillator
 long_horizon_foucault
 long_horizon_forced
+kepler_anchor
 endef
 export FIGURE_COMMANDS
 
@@ -77,8 +78,9 @@ figures: build
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
-# Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor
-# (Google Benchmark; timings: never part of make test); seconds to derive the modified equations as formulas.
+# Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor; the
+# generic step against the closed forms; seconds to derive the modified equations as formulas; a composition step
+# against its stages alone (Google Benchmark; timings: never part of make test).
 bench: build
 	@mkdir -p $(OUT)
 	@$(BUILD)/experiments/bench_steps --out $(OUT)
@@ -88,6 +90,8 @@ bench: build
 	@$(BUILD)/experiments/bench_generic --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_symbolic --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_compose --out $(OUT)
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

@@ -169,16 +169,47 @@ Vec<double, Sys::dof> velocity_from_momentum(const Sys& sys, bool contact, doubl
   return v;
 }
 
+// A run of N steps with nothing kept yet.
+template <class Sys>
+Run empty_run(bool contact, long N) {
+  Run run;
+  run.n = Sys::dof;
+  run.m = Sys::constraints;
+  run.contact = contact;
+  run.steps = N;
+  return run;
+}
+
+// Appends the kept step s to run: its state, the velocity from p_j, the energy, both constraint residuals (phid:
+// what the scheme imposed on the step into q_j) and the Newton updates of that step.
+template <class Sys>
+void append_step(Run& run, const Sys& sys, bool contact, const StepView<double, Sys::dof, Sys::constraints>& s,
+                 double phid, int updates) {
+  constexpr int n = Sys::dof, m = Sys::constraints;
+  const Vec<double, n> v = velocity_from_momentum(sys, contact, s.t, s.q, s.p, s.z);
+  run.j.push_back(s.j);
+  run.t.push_back(s.t);
+  for (int i = 0; i < n; ++i) {
+    run.q.push_back(s.q(i));
+    run.p.push_back(s.p(i));
+    run.v.push_back(v(i));
+  }
+  run.z.push_back(s.z);
+  for (int c = 0; c < m; ++c) run.lambda.push_back(s.lambda(c));
+  run.energy.push_back(energy(sys, s.t, s.q, v));
+  double phi = 0;
+  if constexpr (m > 0) phi = constraint<Sys, double>(sys, s.t, s.q, v).template lpNorm<Eigen::Infinity>();
+  run.phi_d.push_back(phid);
+  run.phi.push_back(phi);
+  run.newton.push_back(updates);
+}
+
 template <class Sys, class G>
 Run run_scheme(const Sys& sys, double h, Path path, long every) {
   constexpr int n = Sys::dof, m = Sys::constraints;
   require(every >= 1, "every must be a positive integer");
   const long N = step_count(h, horizon_of(sys));
-  Run run;
-  run.n = n;
-  run.m = m;
-  run.contact = G::contact;
-  run.steps = N;
+  Run run = empty_run<Sys>(G::contact, N);
   Vec<double, n> qprev = Vec<double, n>::Zero();
   long newton_sum = 0;
   bool closed = false;
@@ -195,22 +226,7 @@ Run run_scheme(const Sys& sys, double h, Path path, long every) {
       if (s.j > 0) newton_sum += updates;
       qprev = s.q;
       if (s.j % every != 0 && s.j != N) return;
-      const Vec<double, n> v = velocity_from_momentum(sys, G::contact, s.t, s.q, s.p, s.z);
-      run.j.push_back(s.j);
-      run.t.push_back(s.t);
-      for (int i = 0; i < n; ++i) {
-        run.q.push_back(s.q(i));
-        run.p.push_back(s.p(i));
-        run.v.push_back(v(i));
-      }
-      run.z.push_back(s.z);
-      for (int c = 0; c < m; ++c) run.lambda.push_back(s.lambda(c));
-      run.energy.push_back(energy(sys, s.t, s.q, v));
-      double phi = 0;
-      if constexpr (m > 0) phi = constraint<Sys, double>(sys, s.t, s.q, v).template lpNorm<Eigen::Infinity>();
-      run.phi_d.push_back(phid);
-      run.phi.push_back(phi);
-      run.newton.push_back(updates);
+      append_step(run, sys, G::contact, s, phid, updates);
     });
   } catch (const NumericalFailure& e) {
     throw e.within(context<Sys, G>(sys, scheme_name<G>(), h, path));
@@ -344,8 +360,12 @@ std::vector<double> continuous_matrix_of(const Sys& sys) {
   constexpr int n = Sys::dof, N = 2 * n;
   auto field = [&](const Vec<double, N>& x) {
     const Vec<double, n> q = x.template head<n>(), v = x.template tail<n>();
-    Vec<double, N> y;
-    y << v, acceleration(sys, 0.0, q, v).a;
+    const Vec<double, n> a = acceleration(sys, 0.0, q, v).a;
+    Vec<double, N> y;  // element by element: Eigen's packet copy of a 1-vector into a block trips -Warray-bounds
+    for (int i = 0; i < n; ++i) {
+      y(i) = v(i);
+      y(n + i) = a(i);
+    }
     return y;
   };
   const Vec<double, N> zero = field(Vec<double, N>::Zero());
