@@ -20,10 +20,8 @@
 #include <type_traits>
 #include <vector>
 
-#include <Eigen/SVD>
-#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
-
 #include "geomint/error.hpp"
+#include "geomint/formula/checks.hpp"
 #include "geomint/formula/model.hpp"
 #include "geomint/generic/system.hpp"
 
@@ -176,7 +174,7 @@ class FormulaSystemT {
     pv_.resize(static_cast<std::size_t>(model_->table_size()));
     std::vector<const P*> in(static_cast<std::size_t>(k));
     for (int i = 0; i < k; ++i) in[static_cast<std::size_t>(i)] = &pv_[static_cast<std::size_t>(i)];
-    model_->prelude.eval(in.data(), pv_.data(), pv_.data() + k);
+    model_->prelude.evaluate(in.data(), pv_.data(), pv_.data() + k);
   }
 
   template <class S>
@@ -194,7 +192,7 @@ class FormulaSystemT {
       in[static_cast<std::size_t>(1 + N + i)] = v ? v + i : nullptr;
     }
     in[2 * N + 1] = z;
-    tape.eval(in.data(), pv_.data(), out);
+    tape.evaluate(in.data(), pv_.data(), out);
   }
 
   // (q(0), q'(0)) in S, from the numbers and parameters in S.
@@ -207,11 +205,9 @@ class FormulaSystemT {
     std::vector<const S*> in(static_cast<std::size_t>(k));
     for (int i = 0; i < k; ++i) in[static_cast<std::size_t>(i)] = &values[static_cast<std::size_t>(i)];
     Vec<S, 2 * N> x;
-    model_->initial.eval(in.data(), pv_.data(), x.data());
+    model_->initial.evaluate(in.data(), pv_.data(), x.data());
     return x;
   }
-
-  std::string herglotz_mismatch() const;
 
   std::shared_ptr<const FormulaModel> model_;
   std::vector<P> pv_;  // numbers | parameters | derived values (FormulaModel)
@@ -221,206 +217,22 @@ template <int N, int M = 0, bool Holonomic = false>
 using FormulaSystem = FormulaSystemT<N, M, Holonomic, double>;
 
 // ---------------------------------------------------------------------------------------------------
-// Checks
-
-namespace detail {
-
-inline std::string show_vec(const double* x, int n) {
-  std::string s = "(";
-  for (int i = 0; i < n; ++i) s += (i ? ", " : "") + show(x[i]);
-  return s + ")";
-}
-
-// Smallest and largest singular values; a matrix is singular when the smallest is below rel times the largest.
-template <int R, int C>
-bool singular(const Mat<double, R, C>& A, double rel, double& smin, double& smax) {
-  if (!A.allFinite()) {
-    smin = smax = std::nan("");
-    return true;
-  }
-  const Eigen::JacobiSVD<Mat<double, R, C>> svd(A);
-  const auto& s = svd.singularValues();
-  smax = s(0);
-  smin = s(s.size() - 1);
-  return !(smax > 0) || !(smin > rel * smax);
-}
-
-}  // namespace detail
+// Checks: on the model at run-time dimensions (checks.hpp), compiled once for every shape
 
 template <int N, int M, bool H, class P>
 void FormulaSystemT<N, M, H, P>::validate() const {
-  if constexpr (std::is_same_v<P, double>) {
-    const FormulaModel& m = *model_;
-    const int o = m.parameter_offset();
-    for (std::size_t i = 0; i < m.parameters.size(); ++i) {
-      const double x = pv_[static_cast<std::size_t>(o) + i];
-      require(std::isfinite(x), "system '" + m.name + "': parameter " + m.parameters[i].name + " must be finite, got " + show(x));
-    }
-    require_positive(horizon(), "T");
-    // named definitions of parameters first (the clearest message), then every constant part of a formula
-    if (!m.definitions.empty()) {
-      std::vector<double> d(m.definitions.size());
-      std::vector<const double*> in(static_cast<std::size_t>(m.derived_offset()));
-      for (std::size_t i = 0; i < in.size(); ++i) in[i] = &pv_[i];
-      m.definitions.eval(in.data(), pv_.data(), d.data());
-      for (std::size_t i = 0; i < d.size(); ++i)
-        require(std::isfinite(d[i]), m.definition_names[i].where.place() + ": definition " + m.definition_names[i].name +
-                                         " is not finite at these parameters (" + show(d[i]) + ")");
-    }
-    for (std::size_t k = 0; k < m.prelude.size(); ++k) {
-      const double x = pv_[static_cast<std::size_t>(m.derived_offset()) + k];
-      require(std::isfinite(x), m.derived_origin[k] + ": a part of it that depends on the parameters only is not finite (" +
-                                    show(x) + ")");
-    }
-    const Vec<double, 2 * N> x0 = initial<double>();
-    for (int i = 0; i < 2 * N; ++i)
-      require(std::isfinite(x0(i)), m.initial_at[static_cast<std::size_t>(i)].place() + ": initial " + (i < N ? "q" : "v") +
-                                        std::to_string(i % N + 1) + " is not finite (" + show(x0(i)) + ")");
-    const Vec<double, N> q0 = x0.template head<N>(), v0 = x0.template tail<N>();
-    const double t0 = 0;
-    if constexpr (M > 0) {
-      const Mat<double, M, N> A = constraint_matrix(t0, q0);
-      double smin = 0, smax = 0;
-      if (detail::singular(A, 1e-12, smin, smax))
-        throw InputError(m.constraint_at[0].place() + ": the constraint rows are " + (M == 1 ? "zero" : "linearly dependent") +
-                         " at the initial position q0 = " + detail::show_vec(q0.data(), N) + " (singular values " + show(smax) +
-                         (M > 1 ? ", " + show(smin) : "") + "): no constraint force is defined there");
-      if constexpr (H) {
-        const Vec<double, M> g = holonomic(t0, q0);
-        for (int r = 0; r < M; ++r) {
-          // the size of the terms of g at q0, to judge its round-off
-          double scale = 1;
-          for (int k = 0; k < N; ++k) scale += std::abs(A(r, k) * q0(k));
-          require(std::abs(g(r)) <= 1e-10 * scale,
-                  m.constraint_at[static_cast<std::size_t>(r)].place() + ": the initial position q0 = " +
-                      detail::show_vec(q0.data(), N) + " is off the holonomic constraint: g" + std::to_string(r + 1) +
-                      "(0, q0) = " + show(g(r)));
-        }
-      }
-    }
-    // The Legendre transform: the velocity Hessian L_q'q' at the initial data must be invertible.
-    auto hessian = [&](bool contact) {
-      using D = Dual<double, N>;
-      Vec<D, N> V;
-      for (int i = 0; i < N; ++i) V(i) = D::variable(v0(i), i);
-      const Vec<D, N> Q = q0.template cast<D>();
-      const Vec<D, N> p = contact ? generic::herglotz_momentum(*this, D(t0), Q, V, D(0)) : generic::momentum(*this, D(t0), Q, V);
-      Mat<double, N, N> Mv;
-      for (int i = 0; i < N; ++i)
-        for (int k = 0; k < N; ++k) Mv(i, k) = p(i).d[static_cast<std::size_t>(k)];
-      return Mv;
-    };
-    for (bool contact : {false, true}) {
-      if (contact && !m.has_herglotz()) continue;
-      const Mat<double, N, N> Mv = hessian(contact);
-      double smin = 0, smax = 0;
-      if (detail::singular(Mv, 1e-12, smin, smax))
-        throw InputError((contact ? m.herglotz_at : m.lagrangian_at).place() + ": the velocity Hessian of " +
-                         (contact ? "the Herglotz Lagrangian" : "L") + " is singular at the initial data (q0 = " +
-                         detail::show_vec(q0.data(), N) + ", v0 = " + detail::show_vec(v0.data(), N) +
-                         ", singular values " + show(smax) + (N > 1 ? " ... " + show(smin) : "") +
-                         "): no Legendre transform, the schemes cannot step");
-    }
-    if (m.strict_herglotz && m.has_herglotz()) {
-      const std::string why = herglotz_mismatch();
-      if (!why.empty()) throw InputError(why);
-    }
-  }
+  if constexpr (std::is_same_v<P, double>) validate_model(*model_, pv_);
 }
 
 template <int N, int M, bool H, class P>
 std::vector<std::string> FormulaSystemT<N, M, H, P>::warnings() const {
   if constexpr (std::is_same_v<P, double>) {
-    if (!model_->strict_herglotz && model_->has_herglotz()) {
-      const std::string why = herglotz_mismatch();
-      if (!why.empty()) return {why};
+    if (!model_->strict_herglotz) {
+      std::string why = herglotz_mismatch(*model_, pv_);
+      if (!why.empty()) return {std::move(why)};
     }
   }
   return {};
-}
-
-// The Herglotz equations (2) with z along their own flow against the Lagrange–d'Alembert equations with the
-// force: sample points on three short trajectories of the Herglotz equations (from the initial data and from two
-// perturbed starts, z(0) = 0), where the two accelerations must agree. Both are exact to round-off (automatic
-// differentiation), so a relative disagreement above 1e-8 of the largest acceleration seen is a different system,
-// not an error of the check. The trajectories are Boost.Odeint's classical Runge–Kutta (64 steps over
-// min(T, 1)): they only have to pass through the region the motion visits.
-template <int N, int M, bool H, class P>
-std::string FormulaSystemT<N, M, H, P>::herglotz_mismatch() const {
-  if constexpr (!std::is_same_v<P, double>) {
-    return "";
-  } else {
-    using State = std::array<double, 2 * N + 1>;
-    const FormulaModel& m = *model_;
-    const double tau = std::min(horizon(), 1.0);
-    const int steps = 64, every = 8;
-    const Vec<double, 2 * N> x0 = initial<double>();
-    auto herglotz_rhs = [&](const State& x, State& dx, double t) {
-      Vec<double, N> q, v;
-      for (int i = 0; i < N; ++i) {
-        q(i) = x[static_cast<std::size_t>(i)];
-        v(i) = x[static_cast<std::size_t>(N + i)];
-      }
-      const Vec<double, N> a = generic::herglotz_acceleration(*this, t, q, v, x[2 * N]).a;
-      for (int i = 0; i < N; ++i) {
-        dx[static_cast<std::size_t>(i)] = v(i);
-        dx[static_cast<std::size_t>(N + i)] = a(i);
-      }
-      dx[2 * N] = herglotz(t, q, v, x[2 * N]);
-    };
-    struct Sample {
-      double t, z;
-      Vec<double, N> q, v, aH, aL;
-    };
-    std::vector<Sample> samples;
-    double scale = 0;
-    boost::numeric::odeint::runge_kutta4<State> rk;
-    for (int start = 0; start < 3; ++start) {
-      Vec<double, N> q = x0.template head<N>(), v = x0.template tail<N>();
-      if (start > 0) {
-        for (int i = 0; i < N; ++i) {
-          const double s = ((i + start) % 2 == 0 ? 1.0 : -1.0) * 0.1;
-          if (!H) q(i) += s * (1 + std::abs(q(i)));
-          v(i) += s * (1 + std::abs(v(i)));
-        }
-      }
-      v = generic::consistent_velocity(*this, 0.0, q, v);
-      State x{};
-      for (int i = 0; i < N; ++i) {
-        x[static_cast<std::size_t>(i)] = q(i);
-        x[static_cast<std::size_t>(N + i)] = v(i);
-      }
-      for (int j = 0; j <= steps; ++j) {
-        const double t = tau * j / steps;
-        if (!std::all_of(x.begin(), x.end(), [](double y) { return std::isfinite(y); })) break;
-        if (j % every == 0) {
-          Sample s;
-          s.t = t;
-          s.z = x[2 * N];
-          for (int i = 0; i < N; ++i) {
-            s.q(i) = x[static_cast<std::size_t>(i)];
-            s.v(i) = x[static_cast<std::size_t>(N + i)];
-          }
-          s.aH = generic::herglotz_acceleration(*this, t, s.q, s.v, s.z).a;
-          s.aL = generic::acceleration(*this, t, s.q, s.v).a;
-          if (!s.aH.allFinite() || !s.aL.allFinite()) break;
-          scale = std::max({scale, s.aH.template lpNorm<Eigen::Infinity>(), s.aL.template lpNorm<Eigen::Infinity>()});
-          samples.push_back(s);
-        }
-        if (j < steps) rk.do_step(herglotz_rhs, x, t, tau / steps);
-      }
-    }
-    for (const Sample& s : samples) {
-      if ((s.aH - s.aL).template lpNorm<Eigen::Infinity>() > 1e-8 * scale) {
-        return m.herglotz_at.place() + ": the Herglotz Lagrangian is inconsistent with the force: at t = " + show(s.t) +
-               ", q = " + detail::show_vec(s.q.data(), N) + ", v = " + detail::show_vec(s.v.data(), N) + ", z = " + show(s.z) +
-               " its equations give q'' = " + detail::show_vec(s.aH.data(), N) +
-               ", the Lagrange-d'Alembert equations with F give " + detail::show_vec(s.aL.data(), N) +
-               " (the contact and LA schemes would integrate different systems)";
-      }
-    }
-    return "";
-  }
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -19,6 +19,7 @@
 // its inputs and is evaluated entirely in one type: P for the prelude, the run's scalar for the initial data
 // (a long double run starts from long double initial data computed from the double parameters, as the headers do).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -185,6 +186,8 @@ Dual<T, N> div_p(const Dual<T, N>& a, const P& c) {
   return mul_p(a, inv);
 }
 
+// tan and atan2 where the type has them; a Dual is taken apart here rather than by its own tan and atan2, which
+// require them of the type below (a Dual over the series type has neither). Same formulas as Dual's.
 template <class S>
 S tan_of(const S& a) {
   using std::cos;
@@ -195,6 +198,11 @@ S tan_of(const S& a) {
   else
     return sin(a) / cos(a);
 }
+template <class T, int N>
+Dual<T, N> tan_of(const Dual<T, N>& a) {
+  const T t = tan_of(a.v);
+  return chain(a, t, T(1) + t * t);
+}
 
 template <class S>
 S atan2_of(const S& y, const S& x) {
@@ -203,6 +211,15 @@ S atan2_of(const S& y, const S& x) {
     return atan2(y, x);
   else
     throw std::domain_error("atan2 is not available in this scalar type");
+}
+template <class T, int N>
+Dual<T, N> atan2_of(const Dual<T, N>& y, const Dual<T, N>& x) {
+  Dual<T, N> r;
+  r.v = atan2_of(y.v, x.v);
+  const T inv = T(1) / (x.v * x.v + y.v * y.v);
+  for (int i = 0; i < N; ++i)
+    r.d[static_cast<std::size_t>(i)] = (x.v * y.d[static_cast<std::size_t>(i)] - y.v * x.d[static_cast<std::size_t>(i)]) * inv;
+  return r;
 }
 
 // x^c for a constant exponent c (not a small integer).
@@ -303,6 +320,34 @@ class Registers<S, false> {
 
 }  // namespace detail
 
+// The scalars Tape::eval_duals takes: a built-in B, Dual<B, N>, Dual<Dual<B, K>, N> (B = double, long double),
+// laid out as B values only (a Dual is its value followed by its derivatives).
+template <class S>
+struct nested_dual : std::false_type {};
+template <>
+struct nested_dual<double> : std::true_type {
+  using base = double;
+  static constexpr int depth = 0;
+};
+template <>
+struct nested_dual<long double> : std::true_type {
+  using base = long double;
+  static constexpr int depth = 0;
+};
+namespace detail {
+template <class T, int N, bool = nested_dual<T>::value>
+struct nested_dual_of : std::false_type {};
+template <class T, int N>
+struct nested_dual_of<T, N, true> : std::bool_constant<(nested_dual<T>::depth < 2)> {
+  using base = typename nested_dual<T>::base;
+  static constexpr int depth = nested_dual<T>::depth + 1;
+  static constexpr int outer = N;
+  static_assert(sizeof(Dual<T, N>) == (N + 1) * sizeof(T), "a Dual is its value followed by its derivatives");
+};
+}  // namespace detail
+template <class T, int N>
+struct nested_dual<Dual<T, N>> : detail::nested_dual_of<T, N> {};
+
 class Tape {
  public:
   int inputs = 0;     // slots 0..inputs-1: the caller's values
@@ -313,10 +358,73 @@ class Tape {
   bool empty() const { return outputs.empty(); }
   std::size_t size() const { return outputs.size(); }
 
-  // out[k] = output k, with in[i] the input slots and pv the parameter values (pv[b] of the mixed instructions).
+  // out[k] = output k, with in[i] the input slots and pv the parameter values (pv[b] of the mixed instructions):
+  // by eval_duals for a nested dual over a built-in scalar with double parameters, else by eval.
+  template <class S, class P>
+  void evaluate(const S* const* in, const P* pv, S* out) const;
+
+  // The interpreter for any scalar type S (instantiated for each).
   template <class S, class P>
   void eval(const S* const* in, const P* pv, S* out) const;
+  // The interpreter for nested duals over B of depth Depth (0: B itself) with `directions` (outermost first)
+  // given at run time: compiled once (tape_duals.cpp) for B = double, long double, with the bits of eval.
+  template <class B, int Depth>
+  void eval_duals(const int* directions, const B* const* in, const double* pv, B* out) const;
 };
+
+extern template void Tape::eval_duals<double, 0>(const int*, const double* const*, const double*, double*) const;
+extern template void Tape::eval_duals<double, 1>(const int*, const double* const*, const double*, double*) const;
+extern template void Tape::eval_duals<double, 2>(const int*, const double* const*, const double*, double*) const;
+extern template void Tape::eval_duals<long double, 0>(const int*, const long double* const*, const double*,
+                                                      long double*) const;
+extern template void Tape::eval_duals<long double, 1>(const int*, const long double* const*, const double*,
+                                                      long double*) const;
+extern template void Tape::eval_duals<long double, 2>(const int*, const long double* const*, const double*,
+                                                      long double*) const;
+
+// The interpreter for the scalars of the stepper's hot loop, compiled once (tape_duals.cpp): a built-in scalar
+// and a Dual over it with a few directions (fixed at compile time: its loops unrolled, measured 1.4x faster than
+// eval_duals with the directions at run time).
+#define GEOMINT_TAPE_EVAL(S) extern template void Tape::eval<S, double>(const S* const*, const double*, S*) const;
+#define GEOMINT_TAPE_EVAL_DUALS(B)                                                                                  \
+  GEOMINT_TAPE_EVAL(B)                                                                                              \
+  GEOMINT_TAPE_EVAL(Dual<B COMMA 1>) GEOMINT_TAPE_EVAL(Dual<B COMMA 2>) GEOMINT_TAPE_EVAL(Dual<B COMMA 3>)            \
+  GEOMINT_TAPE_EVAL(Dual<B COMMA 4>) GEOMINT_TAPE_EVAL(Dual<B COMMA 5>) GEOMINT_TAPE_EVAL(Dual<B COMMA 6>)            \
+  GEOMINT_TAPE_EVAL(Dual<B COMMA 7>) GEOMINT_TAPE_EVAL(Dual<B COMMA 8>) GEOMINT_TAPE_EVAL(Dual<B COMMA 9>)            \
+  GEOMINT_TAPE_EVAL(Dual<B COMMA 10>)
+#define COMMA ,
+GEOMINT_TAPE_EVAL_DUALS(double)
+GEOMINT_TAPE_EVAL_DUALS(long double)
+#undef COMMA
+#undef GEOMINT_TAPE_EVAL_DUALS
+#undef GEOMINT_TAPE_EVAL
+
+// The largest number of directions of a Dual that eval handles from its compiled instances.
+inline constexpr int compiled_dual_directions = 10;
+
+template <class S, class P>
+void Tape::evaluate(const S* const* in, const P* pv, S* out) const {
+  if constexpr (std::is_same_v<P, double> && nested_dual<S>::value) {
+    constexpr int depth = nested_dual<S>::depth;
+    if constexpr (depth == 0) {
+      eval(in, pv, out);
+    } else if constexpr (depth == 1 && nested_dual<S>::outer <= compiled_dual_directions) {
+      eval(in, pv, out);
+    } else {
+      using B = typename nested_dual<S>::base;
+      int directions[2] = {0, 0};
+      directions[0] = nested_dual<S>::outer;
+      if constexpr (depth == 2) directions[1] = nested_dual<typename std::remove_cv_t<decltype(std::declval<S>().v)>>::outer;
+      // the caller's values as arrays of B (standard layout, no padding: the static_assert in nested_dual)
+      std::array<const B*, 64> flat;
+      if (inputs > 64) throw std::length_error("Tape::evaluate: more than 64 inputs");
+      for (int i = 0; i < inputs; ++i) flat[static_cast<std::size_t>(i)] = reinterpret_cast<const B*>(in[i]);
+      eval_duals<B, depth>(directions, flat.data(), pv, reinterpret_cast<B*>(out));
+    }
+  } else {
+    eval(in, pv, out);
+  }
+}
 
 template <class S, class P>
 void Tape::eval(const S* const* in, const P* pv, S* out) const {
