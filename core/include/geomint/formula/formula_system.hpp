@@ -79,6 +79,8 @@ class FormulaSystemT {
     return pv_[static_cast<std::size_t>(model_->parameter_offset() + index_of(pname))];
   }
   P horizon() const { return parameter("T"); }
+  // The tapes' parameter table (numbers | parameters | derived values, FormulaModel): what checks.hpp takes.
+  const std::vector<P>& parameter_table() const { return pv_; }
 
   // Input errors that depend on the parameter values, each naming its place: a non-finite parameter, derived
   // value or initial datum; T <= 0; an initial position off a holonomic constraint; constraint rows that are
