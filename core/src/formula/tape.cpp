@@ -38,14 +38,47 @@ class Compiler {
 
   Tape run(const std::vector<int>& roots) {
     for (int r : roots) visit(r);
-    // last use of every computed value (in emission order); outputs live to the end
-    const int end = static_cast<int>(order_.size());
-    std::unordered_map<int, int> last;
-    for (int i = 0; i < end; ++i) {
-      const Node& x = ex_[order_[static_cast<std::size_t>(i)]];
-      for (int c : {x.a, x.b})
-        if (c >= 0 && role(c) == Role::computed) last[c] = i;
+    const int count = static_cast<int>(order_.size());
+    // how often each computed value is read (by the nodes that use it, and as an output)
+    std::unordered_map<int, int> uses;
+    for (int id : order_)
+      for (int c : {ex_[id].a, ex_[id].b})
+        if (c >= 0 && role(c) == Role::computed) ++uses[c];
+    for (int r : roots)
+      if (role(r) == Role::computed) ++uses[r];
+    // the emitted units: a node alone, or a node fused into the next one (tape.hpp), which then reads its operands
+    struct Unit {
+      int id, inner = -1;
+      Op fused = Op::add;
+    };
+    std::vector<Unit> units;
+    for (int i = 0; i < count; ++i) {
+      const int id = order_[static_cast<std::size_t>(i)];
+      Op op;
+      if (i + 1 < count && uses[id] == 1 && fusion(id, order_[static_cast<std::size_t>(i + 1)], op)) {
+        units.push_back({order_[static_cast<std::size_t>(i + 1)], id, op});
+        ++i;
+      } else {
+        units.push_back({id});
+      }
     }
+    // the computed values each unit reads, and the last unit that reads each (outputs live to the end)
+    auto reads = [&](const Unit& u) {
+      std::vector<int> r;
+      const Node& x = ex_[u.id];
+      for (int c : {x.a, x.b})
+        if (c >= 0 && c != u.inner && role(c) == Role::computed) r.push_back(c);
+      if (u.inner >= 0)
+        for (int c : {ex_[u.inner].a, ex_[u.inner].b})
+          if (c >= 0 && role(c) == Role::computed) r.push_back(c);
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+      return r;
+    };
+    const int end = static_cast<int>(units.size());
+    std::unordered_map<int, int> last;
+    for (int i = 0; i < end; ++i)
+      for (int c : reads(units[static_cast<std::size_t>(i)])) last[c] = i;
     for (int r : roots)
       if (role(r) == Role::computed) last[r] = end;
 
@@ -54,8 +87,7 @@ class Compiler {
     std::vector<std::uint16_t> free;
     int registers = 0;
     for (int i = 0; i < end; ++i) {
-      const int id = order_[static_cast<std::size_t>(i)];
-      const Node& x = ex_[id];
+      const Unit& u = units[static_cast<std::size_t>(i)];
       // the destination is taken before the operands are released: an instruction never writes a register it
       // reads (the scalar types compute their result in place)
       std::uint16_t dst;
@@ -66,10 +98,10 @@ class Compiler {
         if (registers + inputs_ >= max_slots) throw InputError("formula too large for a tape (more than 65535 values)");
         dst = static_cast<std::uint16_t>(registers++);
       }
-      tape.code.push_back(instruction(x, dst));
-      reg_[id] = dst;
-      for (int c : {x.a, x.b == x.a ? -1 : x.b})
-        if (c >= 0 && role(c) == Role::computed && last[c] == i) free.push_back(reg_[c]);
+      tape.code.push_back(u.inner >= 0 ? fused_instruction(u.inner, u.id, u.fused, dst) : instruction(ex_[u.id], dst));
+      reg_[u.id] = dst;
+      for (int c : reads(u))
+        if (last[c] == i) free.push_back(reg_[c]);
     }
     tape.registers = registers;
     for (int r : roots) tape.outputs.push_back(output(r));
@@ -120,7 +152,7 @@ class Compiler {
   }
 
   Instr instruction(const Node& x, std::uint16_t dst) {
-    Instr in{Op::add, dst, 0, 0};
+    Instr in{Op::add, dst, 0, 0, 0};
     const bool pa = x.a >= 0 && role(x.a) == Role::param, pb = x.b >= 0 && role(x.b) == Role::param;
     auto mixed = [&](Op with_b, Op with_a, bool commutes) {
       if (pb) {
@@ -183,6 +215,62 @@ class Compiler {
       default:
         throw std::logic_error("tape compiler: a leaf reached the instruction selection");
     }
+  }
+
+  // A product (of two values, or of a value and a constant) whose only use is the next node fuses with it when
+  // the pair is one of the fused instructions (tape.hpp).
+  bool plain_product(int id) const {
+    const Node& x = ex_[id];
+    return x.kind == Kind::mul && role(x.a) != Role::param && role(x.b) != Role::param;
+  }
+  bool mixed_product(int id) const {
+    const Node& x = ex_[id];
+    return x.kind == Kind::mul && (role(x.a) == Role::param) != (role(x.b) == Role::param);
+  }
+  bool fusion(int inner, int outer, Op& op) const {
+    if (!state_) return false;  // constant tapes are evaluated once per parameter set
+    const Node& y = ex_[outer];
+    const bool plain = plain_product(inner), mixed = mixed_product(inner);
+    if (!plain && !mixed) return false;
+    if (y.a == y.b) return false;
+    const bool first = y.a == inner;  // the product is the outer node's first operand
+    if (!first && y.b != inner) return false;
+    const int other = first ? y.b : y.a;
+    if (y.kind == Kind::div && plain && first && role(other) == Role::param) {
+      op = Op::mul_divp;
+      return true;
+    }
+    if (role(other) == Role::param) return false;
+    switch (y.kind) {
+      case Kind::add:
+        op = plain ? Op::add_mul : Op::add_mulp;
+        return true;
+      case Kind::sub:
+        op = first ? (plain ? Op::mul_sub : Op::mulp_sub) : (plain ? Op::sub_mul : Op::sub_mulp);
+        return true;
+      case Kind::mul:
+        if (!mixed) return false;
+        op = first ? Op::mulp_mul : Op::mul_mulp;
+        return true;
+      default:
+        return false;
+    }
+  }
+  Instr fused_instruction(int inner, int outer, Op op, std::uint16_t dst) {
+    const Node& p = ex_[inner];
+    const Node& y = ex_[outer];
+    Instr in{op, dst, 0, 0, 0};
+    if (plain_product(inner)) {
+      in.b = slot(p.a);
+      in.c = slot(p.b);
+    } else {  // x * c or c * x: the value, then the constant (a product with a constant commutes bit for bit)
+      const bool const_first = role(p.a) == Role::param;
+      in.b = slot(const_first ? p.b : p.a);
+      in.c = pv(const_first ? p.a : p.b);
+    }
+    const int other = y.a == inner ? y.b : y.a;
+    in.a = op == Op::mul_divp ? pv(other) : slot(other);
+    return in;
   }
 
   TapeOutput output(int id) {

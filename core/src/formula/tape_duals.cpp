@@ -438,6 +438,43 @@ void eval_nested(const Tape& tape, const int* directions, const B* const* in, co
       case Op::atan2:
         ops.template atan2<D>(x(c.a), x(c.b), r);
         break;
+      // the fused pairs: the first instruction into the scratch t0, then the second
+      case Op::add_mul:
+        ops.template mul<D>(x(c.b), x(c.c), t0);
+        ops.template add<D>(x(c.a), t0, r);
+        break;
+      case Op::sub_mul:
+        ops.template mul<D>(x(c.b), x(c.c), t0);
+        ops.template sub<D>(x(c.a), t0, r);
+        break;
+      case Op::mul_sub:
+        ops.template mul<D>(x(c.b), x(c.c), t0);
+        ops.template sub<D>(t0, x(c.a), r);
+        break;
+      case Op::add_mulp:
+        ops.template mul_const<D>(x(c.b), B(pv[c.c]), t0);
+        ops.template add<D>(x(c.a), t0, r);
+        break;
+      case Op::sub_mulp:
+        ops.template mul_const<D>(x(c.b), B(pv[c.c]), t0);
+        ops.template sub<D>(x(c.a), t0, r);
+        break;
+      case Op::mulp_sub:
+        ops.template mul_const<D>(x(c.b), B(pv[c.c]), t0);
+        ops.template sub<D>(t0, x(c.a), r);
+        break;
+      case Op::mul_divp:
+        ops.template mul<D>(x(c.b), x(c.c), t0);
+        ops.template div_const<D>(t0, B(pv[c.a]), r);
+        break;
+      case Op::mulp_mul:
+        ops.template mul_const<D>(x(c.b), B(pv[c.c]), t0);
+        ops.template mul<D>(t0, x(c.a), r);
+        break;
+      case Op::mul_mulp:
+        ops.template mul_const<D>(x(c.b), B(pv[c.c]), t0);
+        ops.template mul<D>(x(c.a), t0, r);
+        break;
     }
   }
   for (std::size_t k = 0; k < tape.outputs.size(); ++k) {

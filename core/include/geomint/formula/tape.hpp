@@ -37,13 +37,26 @@ enum class Op : std::uint8_t {
   add, sub, mul, div, pow,                                     // x[a] . x[b]
   add_p, sub_p, rsub_p, mul_p, div_p, rdiv_p, pow_p, rpow_p,   // x[a] . pv[b]  (rsub_p: pv[b] - x[a], ...)
   pow_int,                                                     // x[a]^k, k = int16(b): repeated products
-  neg, sin, cos, tan, exp, log, sqrt, atan2                    // f(x[a]) (atan2: x[a], x[b])
+  neg, sin, cos, tan, exp, log, sqrt, atan2,                   // f(x[a]) (atan2: x[a], x[b])
+  // Two instructions in one, where the first's value is used once, by the second (p is the first's value,
+  // computed exactly as alone): one dispatch and one register round trip less on the most common shapes of a
+  // Lagrangian (m/2*v*v, k*q*q, L - alpha*z, a sum of products)
+  add_mul,    // x[a] + p,   p = x[b] * x[c]   (also p + x[a]: addition commutes, bit for bit)
+  sub_mul,    // x[a] - p,   p = x[b] * x[c]
+  mul_sub,    // p - x[a],   p = x[b] * x[c]
+  add_mulp,   // x[a] + p,   p = x[b] * pv[c]
+  sub_mulp,   // x[a] - p,   p = x[b] * pv[c]
+  mulp_sub,   // p - x[a],   p = x[b] * pv[c]
+  mul_divp,   // p / pv[a],  p = x[b] * x[c]
+  mulp_mul,   // p * x[a],   p = x[b] * pv[c]
+  mul_mulp    // x[a] * p,   p = x[b] * pv[c]  (a product of series does not commute bit for bit: both orders)
 };
 
-// dst is a register; a and b are slots: slot < inputs is the caller's input, else register slot - inputs.
+// dst is a register; a, b and c are slots (or parameter indices, by the op): slot < inputs is the caller's input,
+// else register slot - inputs.
 struct Instr {
   Op op;
-  std::uint16_t dst, a, b;
+  std::uint16_t dst, a, b, c;
 };
 
 struct TapeOutput {
@@ -518,6 +531,60 @@ void Tape::eval(const S* const* in, const P* pv, S* out) const {
         break;
       case Op::atan2:
         R.set(c.dst, [&] { return detail::atan2_of(x(c.a), x(c.b)); });
+        break;
+      case Op::add_mul:
+        R.set(c.dst, [&] {
+          const S p = x(c.b) * x(c.c);
+          return S(x(c.a) + p);
+        });
+        break;
+      case Op::sub_mul:
+        R.set(c.dst, [&] {
+          const S p = x(c.b) * x(c.c);
+          return S(x(c.a) - p);
+        });
+        break;
+      case Op::mul_sub:
+        R.set(c.dst, [&] {
+          const S p = x(c.b) * x(c.c);
+          return S(p - x(c.a));
+        });
+        break;
+      case Op::add_mulp:
+        R.set(c.dst, [&] {
+          const S p = detail::mul_p(x(c.b), pv[c.c]);
+          return S(x(c.a) + p);
+        });
+        break;
+      case Op::sub_mulp:
+        R.set(c.dst, [&] {
+          const S p = detail::mul_p(x(c.b), pv[c.c]);
+          return S(x(c.a) - p);
+        });
+        break;
+      case Op::mulp_sub:
+        R.set(c.dst, [&] {
+          const S p = detail::mul_p(x(c.b), pv[c.c]);
+          return S(p - x(c.a));
+        });
+        break;
+      case Op::mul_divp:
+        R.set(c.dst, [&] {
+          const S p = x(c.b) * x(c.c);
+          return detail::div_p(p, pv[c.a]);
+        });
+        break;
+      case Op::mulp_mul:
+        R.set(c.dst, [&] {
+          const S p = detail::mul_p(x(c.b), pv[c.c]);
+          return S(p * x(c.a));
+        });
+        break;
+      case Op::mul_mulp:
+        R.set(c.dst, [&] {
+          const S p = detail::mul_p(x(c.b), pv[c.c]);
+          return S(x(c.a) * p);
+        });
         break;
     }
   }
