@@ -75,8 +75,9 @@ figures: build
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
-# Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor
-# (Google Benchmark; timings: never part of make test).
+# Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor;
+# systems written as formulas against the same systems as headers (Google Benchmark; timings: never part of
+# make test).
 bench: build
 	@mkdir -p $(OUT)
 	@$(BUILD)/experiments/bench_steps --out $(OUT)
@@ -84,6 +85,8 @@ bench: build
 	@$(BUILD)/experiments/bench_ensembles --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_generic --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_formula --systems docs/systems --out $(OUT)
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

@@ -50,6 +50,9 @@ int main(int argc, char** argv) {
         "systems", po::value(&dir)->default_value(dir), "folder of the formula files (pendulum.geomint, knife-edge.geomint)");
     if (!cli.parse(argc, args.data())) return 0;
     require(reps >= 3 && reps <= 1000, "reps must be in [3, 1000]");
+    // the formula files before anything is written
+    const formula::FormulaSystem<1, 0> pendulum(formula::load_system_file(dir + "/pendulum.geomint"));
+    const formula::FormulaSystem<3, 1> knife_edge(formula::load_system_file(dir + "/knife-edge.geomint"));
     const auto out = prepare_output_dir(cli.out);
     bench::Table table(reps, 0.05);
     std::vector<Pair> pairs;
@@ -76,8 +79,8 @@ int main(int argc, char** argv) {
          ...);
       }, Schemes{});
     };
-    compare(systems::Pendulum{}, formula::FormulaSystem<1, 0>(formula::load_system_file(dir + "/pendulum.geomint")));
-    compare(systems::KnifeEdge{}, formula::FormulaSystem<3, 1>(formula::load_system_file(dir + "/knife-edge.geomint")));
+    compare(systems::Pendulum{}, pendulum);
+    compare(systems::KnifeEdge{}, knife_edge);
 
     std::printf("Google Benchmark, medians of %d interleaved repetitions (ns per step):\n", reps);
     table.run();

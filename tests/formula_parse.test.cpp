@@ -12,6 +12,7 @@
 #include "geomint/error.hpp"
 #include "geomint/formula/formula_system.hpp"
 #include "geomint/modified/series.hpp"
+#include "helpers.hpp"
 
 using namespace geomint;
 using formula::FormulaSystem;
@@ -385,4 +386,9 @@ TEST_CASE("every system file in docs/systems loads into the shape of its formula
     CHECK(h == s.holonomic);
     CHECK(warnings == 0);  // every Herglotz form of these files agrees with its force
   }
+}
+
+TEST_CASE("bench_formula refuses a missing formula file with one line, exit 2, nothing written", "[formula][parse][errors]") {
+  testing::check_rejected("bench_formula", "--systems /nonexistent --reps 3", "cannot read system file '/nonexistent/pendulum.geomint'");
+  testing::check_rejected("bench_formula", "--reps 1", "reps must be in [3, 1000]");
 }

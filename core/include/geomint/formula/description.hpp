@@ -1,40 +1,11 @@
 #pragma once
-// SystemDescription: a system given by its formulas, as text — read from a system file (the format below), or
+// SystemDescription: a system given by its formulas, as text — read from a system file, or
 // filled in memory by a program (the Python module). model.hpp compiles it.
 //
-// The system file format (docs/systems/*.geomint are examples, one per header system):
-//
-//   # The damped pendulum.                    '#' starts a comment, anywhere on a line
-//   [system]
-//   name = pendulum                           a name for command lines: letters, digits, '-', '_'
-//   description = damped nonlinear pendulum   optional, free text
-//   coordinates = 1                           n: the coordinates q1..qn, the velocities v1..vn
-//
-//   [parameters]                              name = number   # its documentation (the comment)
-//   alpha = 0.1    # Rayleigh damping         a default is a number or a formula of numbers and pi
-//   T = 20         # horizon                  T, the horizon, is required
-//
-//   [definitions]                             optional shorthands, each usable below its own line:
-//   w2 = g/l                                  of parameters (computed once per parameter set), or of t, q, v
-//
-//   [dynamics]
-//   L = v1^2/2 - (1 - cos(q1))                the Lagrangian L(t, q, v) (required)
-//   herglotz = L - alpha*z                    the Herglotz Lagrangian L(t, q, v, z) (optional; the contact schemes
-//                                             need it); L, E and herglotz may use L
-//   F1 = -alpha*v1                            the force F(t, q, v), one line per coordinate (optional)
-//   E = v1^2/2 + 1 - cos(q1)                  the energy (optional; default q'.dL/dq' - L)
-//
-//   [constraints]                             optional, m rows (m <= 2 and m < n), either
-//   phi1 = sin(q3)*v1 - cos(q3)*v2            Phi(t, q, v) = A(t, q) v + b(t, q) = 0, linear in the velocities,
-//   g1 = q1^2 + q2^2 - 1                      or holonomic: g(t, q) = 0, imposed as g(t_{j+1}, q_{j+1}) = 0
-//
-//   [initial]                                 the initial data at t = 0: numbers, parameters, constant definitions
-//   q1 = q0
-//   v1 = p0
-//
-// Formulas: + - * / ^ (or **), unary -, parentheses, numbers, sin cos tan exp log sqrt, atan2(y, x) (in
-// parameters, constant definitions and initial data), pi, the parameters and definitions by name, t, q1..qn,
-// v1..vn and z (in herglotz only).
+// The system file format is documented, with examples, in docs/systems/README.md: sections [system] (name,
+// description, coordinates), [parameters] (name = default  # doc), [definitions], [dynamics] (L, herglotz, F1..Fn,
+// E), [constraints] (phi1.. rows linear in the velocities, or g1.. holonomic rows), [initial] (q1..qn, v1..vn);
+// one `key = formula` per line, '#' comments.
 #include <cstdint>
 #include <filesystem>
 #include <string>
