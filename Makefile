@@ -80,7 +80,8 @@ test: build
 
 # Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor; the
 # generic step against the closed forms; seconds to derive the modified equations as formulas; a composition step
-# against its stages alone (Google Benchmark; timings: never part of make test).
+# against its stages alone; systems written as formulas against the same systems as headers (Google Benchmark;
+# timings: never part of make test).
 bench: build
 	@mkdir -p $(OUT)
 	@$(BUILD)/experiments/bench_steps --out $(OUT)
@@ -92,6 +93,8 @@ bench: build
 	@$(BUILD)/experiments/bench_symbolic --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_compose --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_formula --systems docs/systems --out $(OUT)
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

@@ -1,0 +1,91 @@
+#pragma once
+// FormulaModel: a SystemDescription compiled once — every formula parsed into one expression graph, the
+// derivatives the core needs taken symbolically (a constraint's rows A and offset b), and everything compiled to
+// tapes. It does not depend on the scalar types: a FormulaSystem (formula_system.hpp) evaluates its tapes in any of
+// them, with the parameter values in any parameter type. Immutable once built; shared by every copy of a system.
+//
+// What compile_model refuses, each with one line naming the place (file:line:column, or the field of an
+// in-memory description): a formula that does not parse, an unknown symbol (with the nearest known name), a
+// coordinate beyond n, a shape outside the supported set, a Lagrangian or force that depends on z, a constraint
+// row not linear in the velocities (or free of them), a holonomic constraint that depends on the velocities,
+// initial data that are not constant, a parameter without a finite default. What depends on the parameter values
+// (finite derived values, the Legendre transform at the initial data, constraint rank, g(0, q0) = 0, the
+// Herglotz form against the force) is checked by FormulaSystem::validate and warnings.
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geomint/formula/description.hpp"
+#include "geomint/formula/tape.hpp"
+
+namespace geomint::formula {
+
+// The shapes formula systems come in: n coordinates, m constraint rows (velocity or holonomic).
+inline constexpr int max_coordinates = 4;
+inline constexpr int max_constraints = 2;
+constexpr bool supported_shape(int n, int m) { return n >= 1 && n <= max_coordinates && m >= 0 && m <= max_constraints && m < n; }
+
+struct CompileOptions {
+  // A Herglotz Lagrangian inconsistent with the force is an error (FormulaSystem::validate) instead of a
+  // warning (FormulaSystem::warnings).
+  bool strict_herglotz = false;
+};
+
+struct FormulaParameter {
+  std::string name;
+  double value;  // the default
+  std::string doc;
+  Where where;
+};
+
+struct NamedConstant {
+  std::string name;
+  Where where;
+};
+
+class FormulaModel {
+ public:
+  std::string name, description;
+  Where origin;
+  int n = 0, m = 0;
+  bool holonomic = false;
+  bool strict_herglotz = false;
+  std::vector<FormulaParameter> parameters;  // includes T, the horizon
+
+  // The parameter table of the tapes, pv = (numbers | parameters | derived values).
+  std::vector<double> numbers;
+  std::vector<std::string> number_texts;  // as written ("0.5", "pi"); empty where differentiation made the number
+  std::vector<std::string> derived_origin;  // for messages: the formula that first needed derived value k
+  Tape prelude;                             // constant tape: (numbers, parameters) -> derived values
+
+  // State tapes; inputs t, q1..qn, v1..vn, z (Variables).
+  Tape lagrangian, herglotz, energy;  // one output each (herglotz, energy: empty when not given)
+  Tape force;                         // n outputs, or empty
+  Tape constraint_matrix;             // m x n outputs, column-major (Eigen's layout): A(t, q)
+  Tape constraint_offset;             // m outputs: b(t, q)
+  Tape holonomic_g;                   // m outputs: g(t, q) (holonomic systems)
+  Tape initial;                       // constant tape: q(0) (n outputs), then q'(0) (n outputs)
+  Tape definitions;                   // constant tape: the definitions of parameters only, for validate's messages
+  std::vector<NamedConstant> definition_names;
+
+  // Places for messages.
+  Where lagrangian_at, herglotz_at;
+  std::vector<Where> constraint_at, initial_at;  // initial_at: q1..qn then v1..vn
+
+  bool has_herglotz() const { return !herglotz.empty(); }
+  bool has_force() const { return !force.empty(); }
+  bool has_energy() const { return !energy.empty(); }
+  int parameter_offset() const { return static_cast<int>(numbers.size()); }
+  int derived_offset() const { return parameter_offset() + static_cast<int>(parameters.size()); }
+  int table_size() const { return derived_offset() + static_cast<int>(prelude.size()); }
+  int parameter_index(const std::string& name) const;  // -1 when there is no such parameter
+  // "alpha, q0, p0, T"
+  std::string parameter_names() const;
+};
+
+std::shared_ptr<const FormulaModel> compile_model(const SystemDescription& description, const CompileOptions& options = {});
+// read_system_file + compile_model.
+std::shared_ptr<const FormulaModel> load_system_file(const std::filesystem::path& path, const CompileOptions& options = {});
+
+}  // namespace geomint::formula

@@ -1,0 +1,400 @@
+#include "geomint/formula/model.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <unordered_set>
+
+#include "geomint/error.hpp"
+#include "geomint/formula/parser.hpp"
+
+namespace geomint::formula {
+
+int FormulaModel::parameter_index(const std::string& pname) const {
+  for (std::size_t i = 0; i < parameters.size(); ++i)
+    if (parameters[i].name == pname) return static_cast<int>(i);
+  return -1;
+}
+
+std::string FormulaModel::parameter_names() const {
+  std::string out;
+  for (const auto& p : parameters) out += (out.empty() ? "" : ", ") + p.name;
+  return out;
+}
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+bool is_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+// q<k> / v<k> with k a positive integer written without leading zeros.
+bool coordinate_name(const std::string& s, char letter, int& k) {
+  if (s.size() < 2 || s[0] != letter || s[1] == '0' || s.size() > 4) return false;
+  for (std::size_t i = 1; i < s.size(); ++i)
+    if (!std::isdigit(static_cast<unsigned char>(s[i]))) return false;
+  k = std::stoi(s.substr(1));
+  return true;
+}
+
+// "file:12:7: L" for a file, "L, column 7" for a field of an in-memory description.
+std::string located(const Where& w, const std::string& what, int column) {
+  if (w.line > 0) return w.at(column) + ": " + what;
+  return w.source + ", column " + std::to_string(column);
+}
+std::string placed(const Where& w, const std::string& what) {
+  if (w.line > 0) return w.place() + ": " + what;
+  return w.source;
+}
+
+// What a formula may refer to.
+struct Scope {
+  bool numbers_only = false;  // a parameter's default
+  bool lagrangian = false;    // L (in herglotz and E)
+  std::size_t definitions = 0;  // the definitions above this formula
+};
+
+class ModelCompiler {
+ public:
+  ModelCompiler(const SystemDescription& d, const CompileOptions& options) : d_(d), ex_(check_coordinates(d)) {
+    model_ = std::make_shared<FormulaModel>();
+    model_->strict_herglotz = options.strict_herglotz;
+  }
+
+  std::shared_ptr<const FormulaModel> run() {
+    FormulaModel& M = *model_;
+    const Variables& V = ex_.variables();
+    const int n = V.n;
+    M.name = d_.name;
+    M.description = d_.description;
+    M.origin = d_.origin;
+    M.n = n;
+    M.m = static_cast<int>(d_.constraints.size());
+    M.holonomic = d_.constraint_kind == ConstraintKind::holonomic && M.m > 0;
+    check_name();
+    if (!supported_shape(n, M.m))
+      whole(std::to_string(M.m) + " constraint row" + (M.m == 1 ? "" : "s") + " with " + std::to_string(n) +
+            " coordinate" + (n == 1 ? "" : "s") + ": formula systems have at most " + std::to_string(max_constraints) +
+            " rows, and fewer rows than coordinates");
+
+    parameters();
+    definitions();
+
+    // The dynamics.
+    require_given(d_.lagrangian, "L", "the Lagrangian 'L = ...'");
+    const int L = parse(d_.lagrangian, "L", Scope{false, false, defs_.size()});
+    forbid(L, V.bit(V.z()), d_.lagrangian, "L", "depends on z: the Herglotz Lagrangian is written herglotz = ...");
+    lagrangian_ = L;
+    M.lagrangian_at = d_.lagrangian.where;
+    int H = -1, E = -1;
+    if (d_.herglotz.given()) {
+      H = parse(d_.herglotz, "herglotz", Scope{false, true, defs_.size()});
+      M.herglotz_at = d_.herglotz.where;
+    }
+    if (d_.energy.given()) {
+      E = parse(d_.energy, "E", Scope{false, true, defs_.size()});
+      forbid(E, V.bit(V.z()), d_.energy, "E", "depends on z: the energy is a function of t, q and v");
+    }
+    std::vector<int> F;
+    if (!d_.force.empty()) {
+      if (static_cast<int>(d_.force.size()) != n)
+        whole("the force has " + std::to_string(d_.force.size()) + " components but the system has " + std::to_string(n) +
+              " coordinates");
+      for (int i = 0; i < n; ++i) {
+        const std::string what = "F" + std::to_string(i + 1);
+        const int f = parse(d_.force[static_cast<std::size_t>(i)], what, Scope{false, true, defs_.size()});
+        forbid(f, V.bit(V.z()), d_.force[static_cast<std::size_t>(i)], what, "depends on z: the force is a function of t, q and v");
+        F.push_back(f);
+      }
+    }
+
+    // The constraints: A and b by differentiating each row.
+    std::vector<int> A, b, g;
+    for (int r = 0; r < M.m; ++r) {
+      const FormulaText& f = d_.constraints[static_cast<std::size_t>(r)];
+      const std::string what = (M.holonomic ? "g" : "phi") + std::to_string(r + 1);
+      const int row = parse(f, what, Scope{false, false, defs_.size()});
+      forbid(row, V.bit(V.z()), f, what, "depends on z: a constraint is a function of t, q and v");
+      M.constraint_at.push_back(f.where);
+      bool any = false;
+      if (M.holonomic) {
+        forbid(row, V.v_bits(), f, what, "depends on the velocities: a holonomic constraint g(t, q) is a function of t and q (a row linear in the velocities is written phi" + std::to_string(r + 1) + " = ...)");
+        g.push_back(row);
+        for (int k = 0; k < n; ++k) {
+          A.push_back(ex_.derivative(row, V.q(k)));
+          any = any || !ex_.is_number(A.back(), 0);
+        }
+        b.push_back(ex_.derivative(row, V.t()));
+        if (!any) fail_at(f, what, "does not depend on q: g(t) = 0 constrains no motion");
+      } else {
+        for (int k = 0; k < n; ++k) {
+          const int a = ex_.derivative(row, V.v(k));
+          const std::uint32_t nonlinear = ex_[a].uses & V.v_bits();
+          if (nonlinear)
+            fail_at(f, what, "is not linear in the velocities: its coefficient of v" + std::to_string(k + 1) + " depends on " +
+                                 V.names(nonlinear) + " (write Phi = A(t, q) v + b(t, q))");
+          A.push_back(a);
+          any = any || !ex_.is_number(a, 0);
+        }
+        b.push_back(ex_.substitute_zero(row, V.v_bits()));
+        if (!any) fail_at(f, what, "has no velocity in it: a constraint on the positions is written as a holonomic row g" + std::to_string(r + 1) + " = ...");
+      }
+    }
+
+    // The initial data.
+    std::vector<int> init;
+    for (int part = 0; part < 2; ++part) {
+      const auto& rows = part == 0 ? d_.initial_q : d_.initial_v;
+      if (static_cast<int>(rows.size()) != n)
+        whole("the initial data give " + std::to_string(rows.size()) + (part == 0 ? " positions" : " velocities") +
+              " for " + std::to_string(n) + " coordinates");
+      for (int i = 0; i < n; ++i) {
+        const FormulaText& f = rows[static_cast<std::size_t>(i)];
+        const std::string what = std::string("initial ") + (part == 0 ? "q" : "v") + std::to_string(i + 1);
+        const int e = parse(f, what, Scope{false, false, defs_.size()});
+        forbid(e, ~std::uint32_t(0), f, what, "is not constant: initial data are numbers, parameters and definitions of parameters");
+        init.push_back(e);
+        M.initial_at.push_back(f.where);
+      }
+    }
+
+    // atan2 only of constants: the series type of the modified equations has no atan2.
+    no_state_atan2(L, d_.lagrangian, "L");
+    if (H >= 0) no_state_atan2(H, d_.herglotz, "herglotz");
+    if (E >= 0) no_state_atan2(E, d_.energy, "E");
+    for (std::size_t i = 0; i < F.size(); ++i) no_state_atan2(F[i], d_.force[i], "F" + std::to_string(i + 1));
+    for (int r = 0; r < M.m; ++r) {
+      const std::string what = (M.holonomic ? "g" : "phi") + std::to_string(r + 1);
+      const FormulaText& f = d_.constraints[static_cast<std::size_t>(r)];
+      for (int k = 0; k < n; ++k) no_state_atan2(A[static_cast<std::size_t>(r * n + k)], f, what);
+      no_state_atan2(b[static_cast<std::size_t>(r)], f, what);
+    }
+
+    // Tapes. Every node exists now (the number table is final).
+    M.numbers = ex_.numbers();
+    M.number_texts = ex_.number_texts();
+    ConstantTable table(static_cast<int>(M.numbers.size()), static_cast<int>(M.parameters.size()));
+    auto state = [&](const std::vector<int>& roots, const Where& w, const std::string& what) {
+      const std::size_t before = table.derived().size();
+      Tape t = compile_state_tape(ex_, roots, table);
+      for (std::size_t k = before; k < table.derived().size(); ++k) M.derived_origin.push_back(placed(w, what));
+      return t;
+    };
+    M.lagrangian = state({L}, d_.lagrangian.where, "L");
+    if (H >= 0) M.herglotz = state({H}, d_.herglotz.where, "herglotz");
+    if (E >= 0) M.energy = state({E}, d_.energy.where, "E");
+    if (!F.empty()) M.force = state(F, d_.force[0].where, "F");
+    if (M.m > 0) {
+      const Where& w = d_.constraints[0].where;
+      std::vector<int> A_columns;  // Eigen's layout: column-major
+      for (int k = 0; k < n; ++k)
+        for (int r = 0; r < M.m; ++r) A_columns.push_back(A[static_cast<std::size_t>(r * n + k)]);
+      M.constraint_matrix = state(A_columns, w, "the constraint rows");
+      M.constraint_offset = state(b, w, "the constraint rows");
+      if (M.holonomic) M.holonomic_g = state(g, w, "the constraint rows");
+    }
+    M.prelude = compile_constant_tape(ex_, table.derived(), table.numbers(), table.parameters());
+    M.initial = compile_constant_tape(ex_, init, table.numbers(), table.parameters());
+    std::vector<int> constant_defs;
+    for (const auto& def : defs_)
+      if (ex_.is_constant(def.node)) {
+        constant_defs.push_back(def.node);
+        M.definition_names.push_back({def.name, def.where});
+      }
+    M.definitions = compile_constant_tape(ex_, constant_defs, table.numbers(), table.parameters());
+    return model_;
+  }
+
+ private:
+  struct Definition {
+    std::string name;
+    int node;
+    Where where;
+  };
+
+  static int check_coordinates(const SystemDescription& d) {
+    const int n = d.coordinates;
+    if (n < 1 || n > max_coordinates)
+      throw InputError(d.origin.source + ": coordinates = " + std::to_string(n) + ": formula systems have 1 to " +
+                       std::to_string(max_coordinates) + " coordinates");
+    return n;
+  }
+
+  [[noreturn]] void whole(const std::string& what) const { throw InputError(d_.origin.source + ": " + what); }
+  [[noreturn]] void fail_at(const FormulaText& f, const std::string& what, const std::string& message) const {
+    throw InputError(placed(f.where, what) + " " + message);
+  }
+  void require_given(const FormulaText& f, const std::string& what, const std::string& name) const {
+    if (!f.given()) whole("no " + name + " (" + what + ")");
+  }
+
+  void check_name() const {
+    if (d_.name.empty()) whole("the system has no name");
+    for (char c : d_.name)
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_'))
+        whole("system name '" + d_.name + "' may contain only letters, digits, '-' and '_'");
+  }
+
+  // Names a formula cannot take: the variables, pi, L, E and the functions.
+  std::string reserved(const std::string& name) const {
+    int k = 0;
+    const int n = ex_.variables().n;
+    if (name == "t" || name == "z") return "is a variable (t: time, z: the Herglotz action)";
+    if (name == "pi") return "is the number pi";
+    if (name == "L" || name == "E") return "names the " + std::string(name == "L" ? "Lagrangian" : "energy");
+    Fn f;
+    if (find_fn(name, f)) return "is a function";
+    if ((coordinate_name(name, 'q', k) || coordinate_name(name, 'v', k)) && k <= n)
+      return "is a coordinate or velocity (q1..q" + std::to_string(n) + ", v1..v" + std::to_string(n) + ")";
+    return "";
+  }
+
+  void parameters() {
+    FormulaModel& M = *model_;
+    for (const auto& p : d_.parameters) {
+      const std::string what = "parameter " + p.name;
+      if (!is_identifier(p.name)) fail_at(p.value, what, "is not a name (letters, digits and '_', not starting with a digit)");
+      const std::string r = reserved(p.name);
+      if (!r.empty()) fail_at(p.value, what, r);
+      if (M.parameter_index(p.name) >= 0) fail_at(p.value, what, "is declared twice");
+      if (!p.value.given()) fail_at(p.value, what, "has no value");
+      const int node = parse(p.value, what, Scope{true, false, 0});
+      const double v = constant_value(ex_, node);
+      if (!std::isfinite(v)) fail_at(p.value, what, "= " + p.value.text + " is not a finite number");
+      M.parameters.push_back({p.name, v, p.doc, p.value.where});
+    }
+    if (M.parameter_index("T") < 0) whole("no parameter T (the horizon): add 'T = ...' to [parameters]");
+  }
+
+  void definitions() {
+    for (const auto& def : d_.definitions) {
+      const std::string what = "definition " + def.name;
+      if (!is_identifier(def.name)) fail_at(def.value, what, "is not a name (letters, digits and '_', not starting with a digit)");
+      const std::string r = reserved(def.name);
+      if (!r.empty()) fail_at(def.value, what, r);
+      if (model_->parameter_index(def.name) >= 0) fail_at(def.value, what, "is already a parameter");
+      for (const auto& e : defs_)
+        if (e.name == def.name) fail_at(def.value, what, "is defined twice (first at " + e.where.place() + ")");
+      if (!def.value.given()) fail_at(def.value, what, "has no value");
+      const int node = parse(def.value, what, Scope{false, false, defs_.size()});
+      defs_.push_back({def.name, node, def.value.where});
+    }
+  }
+
+  int parse(const FormulaText& f, const std::string& what, const Scope& scope) {
+    try {
+      return parse_formula(ex_, f.text, [&](const std::string& name, int column) { return resolve(name, column, scope); });
+    } catch (const ParseError& e) {
+      throw InputError(located(f.where, what, e.column) + ": " + e.what());
+    } catch (const InputError& e) {
+      throw InputError(placed(f.where, what) + ": " + e.what());
+    }
+  }
+
+  int resolve(const std::string& name, int column, const Scope& scope) {
+    const Variables& V = ex_.variables();
+    if (name == "pi") return ex_.number(pi, "pi");
+    if (scope.numbers_only)
+      throw ParseError(column, "a parameter's default is a number (or a formula of numbers and pi), not '" + name + "'");
+    if (name == "t") return ex_.var(V.t());
+    if (name == "z") return ex_.var(V.z());
+    int k = 0;
+    if (coordinate_name(name, 'q', k) && k <= V.n) return ex_.var(V.q(k - 1));
+    if (coordinate_name(name, 'v', k) && k <= V.n) return ex_.var(V.v(k - 1));
+    if (name == "L" && scope.lagrangian) return lagrangian_;
+    for (std::size_t i = 0; i < scope.definitions; ++i)
+      if (defs_[i].name == name) return defs_[i].node;
+    const int p = model_->parameter_index(name);
+    if (p >= 0) return ex_.param(p);
+    // unknown: say why as precisely as we can
+    if ((coordinate_name(name, 'q', k) || coordinate_name(name, 'v', k)))
+      throw ParseError(column, "'" + name + "': the system has " + std::to_string(V.n) + " coordinate" + (V.n == 1 ? "" : "s") +
+                                   " (q1..q" + std::to_string(V.n) + ", v1..v" + std::to_string(V.n) + ")");
+    if (name == "L") throw ParseError(column, "L (the Lagrangian) can be used in herglotz, E and F only");
+    for (const auto& def : d_.definitions)
+      if (def.name == name)
+        throw ParseError(column, "'" + name + "' is defined below (" + def.value.where.place() +
+                                     "): a formula can use only the definitions above it");
+    std::vector<std::string> known{"t", "z", "pi"};
+    for (const auto& q : model_->parameters) known.push_back(q.name);
+    for (std::size_t i = 0; i < scope.definitions; ++i) known.push_back(defs_[i].name);
+    if (scope.lagrangian) known.push_back("L");
+    std::string best;
+    std::size_t dist = 3;
+    for (const auto& c : known) {
+      const std::size_t e = edit_distance(name, c);
+      if (e < dist && e < std::max<std::size_t>(name.size(), 2)) {
+        dist = e;
+        best = c;
+      }
+    }
+    std::string msg = "unknown symbol '" + name + "'";
+    if (!best.empty())
+      msg += " (did you mean '" + best + "'?)";
+    else
+      msg += " (parameters: " + model_->parameter_names() + ")";
+    throw ParseError(column, msg);
+  }
+
+  // Refuses a formula that uses any of the variables in `bits`.
+  void forbid(int node, std::uint32_t bits, const FormulaText& f, const std::string& what, const std::string& message) const {
+    const std::uint32_t used = ex_[node].uses & bits;
+    if (!used) return;
+    if (bits == ~std::uint32_t(0))
+      fail_at(f, what, message + " (it uses " + ex_.variables().names(used) + ")");
+    fail_at(f, what, message);
+  }
+
+  void no_state_atan2(int root, const FormulaText& f, const std::string& what) {
+    std::unordered_set<int> seen;
+    std::vector<int> stack{root};
+    while (!stack.empty()) {
+      const int id = stack.back();
+      stack.pop_back();
+      const Node& x = ex_[id];
+      if (x.uses == 0 || !seen.insert(id).second) continue;
+      if (x.kind == Kind::call && x.fn == Fn::atan2)
+        fail_at(f, what, "takes atan2 of " + ex_.variables().names(x.uses) +
+                             ": atan2 is available for parameters and initial data only (the modified equations' series "
+                             "type has no atan2)");
+      for (int c : {x.a, x.b})
+        if (c >= 0) stack.push_back(c);
+    }
+  }
+
+  const SystemDescription& d_;
+  Expressions ex_;
+  std::shared_ptr<FormulaModel> model_;
+  std::vector<Definition> defs_;
+  int lagrangian_ = -1;
+};
+
+}  // namespace
+
+std::shared_ptr<const FormulaModel> compile_model(const SystemDescription& description, const CompileOptions& options) {
+  return ModelCompiler(description, options).run();
+}
+
+std::shared_ptr<const FormulaModel> load_system_file(const std::filesystem::path& path, const CompileOptions& options) {
+  return compile_model(read_system_file(path), options);
+}
+
+}  // namespace geomint::formula
