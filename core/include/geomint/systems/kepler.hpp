@@ -13,7 +13,9 @@
 // and the energy E = |q'|^2/2 - 1/|q| obeys E' = -f |q'|^2.
 // Defaults: the friction of the anchor's first comparison, (a, theta) = (-0.07, 2 pi), e = 0.4, over T = 10 (1.6
 // orbits, where even the first-order schemes are in their asymptotic range from h = 0.1; the anchor's settings
-// themselves are presets of geomint/kepler_anchor.hpp). No closed form: the reference is Boost.Odeint on the
+// themselves are presets of geomint/kepler_anchor.hpp).
+// The parameter type P is a template parameter (Kepler = KeplerT<double>): with a symbolic P the modified
+// equations come as formulas in a, theta, alpha (geomint/modified/symbolic.hpp). No closed form: the reference is Boost.Odeint on the
 // equations the core derives from L (cross-checked against rhs below, and against Kepler's equation at a = 0).
 #include <cmath>
 
@@ -24,14 +26,15 @@
 
 namespace geomint::systems {
 
-struct Kepler {
+template <class P = double>
+struct KeplerT {
   static constexpr const char* name = "kepler";
   static constexpr const char* description =
       "time-perturbed Kepler problem: q'' = -q/|q|^3 - (alpha + a sin(theta t)) q' (Herglotz L = |q'|^2/2 + 1/|q| - f(t) z)";
   static constexpr int dof = 2;
   static constexpr int constraints = 0;
 
-  double a = -0.07, theta = boost::math::constants::two_pi<double>(), alpha = 0, e = 0.4, T = 10;
+  P a = -0.07, theta = boost::math::constants::two_pi<double>(), alpha = 0, e = 0.4, T = 10;
 
   template <class V>
   void visit(V&& v) {
@@ -86,5 +89,6 @@ struct Kepler {
     return std::exp(-alpha * t - (theta != 0 ? a / theta * (1 - std::cos(theta * t)) : 0.0));
   }
 };
+using Kepler = KeplerT<>;
 
 }  // namespace geomint::systems
