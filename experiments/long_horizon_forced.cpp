@@ -213,7 +213,7 @@ int main(int argc, char** argv) {
             return fit.result(r.steps);
           };
           auto timing = [&, name, h] {
-            const double s = sys.seconds_per_run(pv, name, h, Path::fast, reps);
+            const double s = sys.time_run(pv, name, h, Path::fast, reps).median;
             return TimingStats{s, s, s, reps};
           };
           pts.push_back(measure_point(name, "geometric", "m", P, m, run, timing));

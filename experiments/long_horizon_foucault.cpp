@@ -34,7 +34,8 @@
 
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
-#include "geomint/foucault.hpp"
+#include "geomint/observers.hpp"
+#include "geomint/systems/foucault.hpp"
 #include "geomint/gsl_evolve.hpp"
 #include "geomint/long_horizon.hpp"
 #include "geomint/io.hpp"
@@ -62,7 +63,7 @@ class Probe {
     const double r = q.norm();
     const double scale = r * v.norm() + p_.s * r * r;
     if (scale > 0) cmax_ = std::max(cmax_, std::abs(foucault_constraint(p_, q, v)) / scale);
-    if (have_ >= 2 && r_m_ > r_mm_ && r_m_ >= r) turn(t_m_, q_m_, v_m_);
+    if (have_ >= 2 && is_turning_point(false, r_mm_, r_m_, r)) turn(t_m_, q_m_, v_m_);
     r_mm_ = r_m_;
     r_m_ = r;
     t_m_ = t;
@@ -89,10 +90,7 @@ class Probe {
   void turn(double t, const Vec2<double>& q, const Vec2<double>& v) {
     const double r2 = q.squaredNorm(), qv = q.dot(v);
     double a = std::atan2(q(1), q(0));
-    if (!th_.empty()) {  // the plane is a line: its angle is defined modulo pi; take the branch nearest the last
-      const double prev = th_.back();
-      a += foucault_pi * std::round((prev - a) / foucault_pi);
-    }
+    if (!th_.empty()) a = line_angle(q(0), q(1), th_.back());
     ts_.push_back(t);
     th_.push_back(a);
     lq_.push_back(std::log(b_ * r2 + p_.alpha * qv + qv * qv / r2));
@@ -115,32 +113,33 @@ struct Point {
   TimingStats time;
 };
 
-template <class Scheme>
-Structure scheme_run(const FoucaultScene& sc, FoucaultConstraint con, double h, long N, bool measure) {
+// The closed form Scheme on system Sys (its constraint row).
+template <class Sys, class Scheme>
+Structure scheme_run(const Sys& sc, double h, long N, bool measure) {
   const FoucaultParams<double> p(sc);
   const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
   if (!measure) {
     double acc = 0;
-    integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) { acc += st.qn(0); }, con);
+    systems::run_closed_form<Scheme>(sc, p, q0, v0, h, N, FoucaultStart::legendre,
+                                     [&](const FoucaultStep<double>& st) { acc += st.qn(0); });
     do_not_optimize(acc);
     return {};
   }
   Probe probe(p);
   double disc = 0;
-  integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
-    const bool rot = st.constraint == FoucaultConstraint::rotation;
-    const double phid = rot ? foucault_line<double>(st.phin).n.dot(st.qn) : discrete_constraint(p, st.q, st.qn, h);
-    const double scale = rot ? st.q.norm() + st.qn.norm() : discrete_constraint_scale(st.q, st.qn, h);
+  systems::run_closed_form<Scheme>(sc, p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
+    const double phid = Sys::imposed_constraint(p, st, h);
+    const double scale = Sys::imposed_constraint_scale(st, h);
     disc = std::max(disc, scale > 0 ? std::abs(phid) / scale : std::abs(phid));
     probe.point(st.t, st.q, (st.qn - st.qm) / (2 * h));
-  }, con);
+  });
   Structure s = probe.result(N);
   s.discrete = disc;
   return s;
 }
 
 // Odeint's rk4 with a fixed step on the multiplier ODE.
-Structure rk4_run(const FoucaultScene& sc, double h, long N, bool measure) {
+Structure rk4_run(const systems::FoucaultPendulum& sc, double h, long N, bool measure) {
   const FoucaultParams<double> p(sc);
   const FoucaultMultiplierOde f(p);
   const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
@@ -159,7 +158,7 @@ Structure rk4_run(const FoucaultScene& sc, double h, long N, bool measure) {
 
 // An Odeint controlled stepper driven by try_step to T (the last step shortened to land on T).
 template <class Stepper>
-Structure controlled_run(const FoucaultScene& sc, Stepper st, double T, bool measure) {
+Structure controlled_run(const systems::FoucaultPendulum& sc, Stepper st, double T, bool measure) {
   const FoucaultParams<double> p(sc);
   const FoucaultMultiplierOde f(p);
   const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
@@ -182,7 +181,7 @@ int gsl_rhs(double t, const double y[], double dydt[], void* params) {
   return GSL_SUCCESS;
 }
 
-Structure rk8pd_run(const FoucaultScene& sc, double tol, double T, bool measure) {
+Structure rk8pd_run(const systems::FoucaultPendulum& sc, double tol, double T, bool measure) {
   const FoucaultParams<double> p(sc);
   FoucaultMultiplierOde f(p);
   const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
@@ -230,9 +229,11 @@ int main(int argc, char** argv) {
         "reps", po::value(&reps)->default_value(reps), "timed repetitions");
     if (!cli.parse(argc, argv)) return 0;
     require(!horizons.empty() && !hs.empty() && !tols.empty(), "give at least one value per list");
-    FoucaultScene sc;
+    systems::Foucault sc;  // the scene; the rotation runs use foucault-rotation with the same parameters
     sc.alpha = alpha;
     sc.validate();
+    systems::FoucaultRotation sc_rotation;
+    static_cast<systems::FoucaultPendulum&>(sc_rotation) = sc;
     require(alpha > 0, "alpha must be positive (the decay rate is measured against it)");
     for (double T : horizons) require(std::isfinite(T) && T >= 100 && T <= 1e6, "T must be in [100, 1e6] s, got " + show(T));
     for (double T : horizons)
@@ -251,13 +252,19 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "long_horizon_foucault: T = %g s ...\n", T);
       for (double h : hs) {
         const long N = step_count(h, T);
-        for (auto con : {FoucaultConstraint::rotation, FoucaultConstraint::paper}) {
-          const std::string tag = std::string("-") + to_string(con);
-          pts.push_back(measure_point(std::string("la-nh") + tag, "geometric", "h", T, h,
-                                      [&, con, h, N](bool m) { return scheme_run<schemes::LaNh>(sc, con, h, N, m); }, reps));
-          pts.push_back(measure_point(std::string("contact-nh") + tag, "geometric", "h", T, h,
-                                      [&, con, h, N](bool m) { return scheme_run<schemes::ContactNh>(sc, con, h, N, m); }, reps));
-        }
+        // (15) and (18) under the paper's names, the remedy's rows first, then the paper's
+        auto geometric = [&](const auto& sys) {
+          using Sys = std::decay_t<decltype(sys)>;
+          const std::string tag = std::string("-") + Sys::discretization;
+          pts.push_back(measure_point("la-nh" + tag, "geometric", "h", T, h, [&, h, N](bool m) {
+            return scheme_run<Sys, systems::FoucaultPendulum::La>(sys, h, N, m);
+          }, reps));
+          pts.push_back(measure_point("contact-nh" + tag, "geometric", "h", T, h, [&, h, N](bool m) {
+            return scheme_run<Sys, systems::FoucaultPendulum::Contact>(sys, h, N, m);
+          }, reps));
+        };
+        geometric(sc_rotation);
+        geometric(sc);
         pts.push_back(measure_point("odeint-rk4", "rk", "h", T, h, [&, h, N](bool m) { return rk4_run(sc, h, N, m); }, reps));
       }
       for (double tol : tols) {
@@ -271,7 +278,7 @@ int main(int argc, char** argv) {
       }
     }
 
-    Params params = foucault_scene_params(sc);
+    Params params = sc.header_params();
     params.insert(params.end(), {{"T", format_list(horizons)}, {"h", format_list(hs)}, {"tol", format_list(tols) + " (rel; abs = 1e-8 tol)"},
                                  {"start", "legendre"}, {"reps", std::to_string(reps)},
                                  {"measures", "precession_err = |rate + s|/s (turning points); decay_err = |alpha_fit - alpha|/alpha "

@@ -26,8 +26,7 @@
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/long_horizon.hpp"
-#include "geomint/oscillator_registry.hpp"
-#include "geomint/oscillator_schemes.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 #include "geomint/timing.hpp"
@@ -67,14 +66,12 @@ Runner fixed(double alpha, double q0, double p0, double h, long N, long windows)
   };
 }
 
-// The geometric schemes by name (the oscillator registry's work_precision list).
+// A geometric scheme of the oscillator by name (or alias): its closed form, renormalised between windows.
 Runner geometric(const std::string& name, double alpha, double q0, double p0, double h, long N, long windows) {
-  if (name == schemes::La::name) return fixed<schemes::La>(alpha, q0, p0, h, N, windows);
-  if (name == schemes::Contact::name) return fixed<schemes::Contact>(alpha, q0, p0, h, N, windows);
-  if (name == schemes::LaMidpoint::name) return fixed<schemes::LaMidpoint>(alpha, q0, p0, h, N, windows);
-  if (name == schemes::ContactSymmetric::name) return fixed<schemes::ContactSymmetric>(alpha, q0, p0, h, N, windows);
-  if (name == schemes::Leapfrog::name) return fixed<schemes::Leapfrog>(alpha, q0, p0, h, N, windows);
-  throw InputError("long_horizon_oscillator: no long-horizon driver for scheme '" + name + "'");
+  Runner run;
+  generic::visit_closed_form<systems::Oscillator>(
+      name, [&](auto c) { run = fixed<decltype(c)>(alpha, q0, p0, h, N, windows); });
+  return run;
 }
 
 Point measure(const std::string& method, const std::string& family, const std::string& knob, double alpha,
@@ -139,7 +136,8 @@ int main(int argc, char** argv) {
     for (double P : periods)
       for (double m : ms) require(P * m <= 1e10, "more than 1e10 steps in one run (periods x m)");
     const auto dir = prepare_output_dir(cli.out);
-    const auto& geo = oscillator_defaults("work_precision");
+    // first order (the paper's), then the second-order comparators under the paper's names
+    const std::vector<std::string> geo{"la", "contact", "la-midpoint", "contact-sym", "leapfrog"};
 
     std::vector<Point> pts;
     for (double a : alphas)

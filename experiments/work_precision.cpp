@@ -22,11 +22,11 @@
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/gsl_evolve.hpp"
-#include "geomint/integrate.hpp"
 #include "geomint/io.hpp"
 #include "geomint/record.hpp"
-#include "geomint/oscillator_registry.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/system_cli.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 #include "geomint/timing.hpp"
@@ -46,12 +46,17 @@ struct Point {
 
 // The oscillator's scene (the paper's; --q0, --p0, --T change it).
 double T = 50, q0 = -0.25, p0 = 0.75;
+ParamValues scene(double alpha) { return {{"alpha", alpha}, {"q0", q0}, {"p0", p0}, {"T", T}}; }
+double exact_q(double alpha, double t) {
+  return systems::Oscillator{alpha, q0, p0, T}.exact<double>(t).q(0);
+}
 
-Point fixed_step(const OscillatorSchemeInfo& scheme, double alpha, double h, int reps) {
-  const OscillatorScene scene{alpha, q0, p0, T};
-  const double err = scheme.max_error(scene, h);
-  const auto t = time_per_call([&] { do_not_optimize(scheme.integrate(scene, h)); }, reps);
-  return {scheme.name, "h", alpha, h, err, step_count(h, T), t};
+// A scheme of the registry's oscillator (its closed form) against the closed-form solution.
+Point fixed_step(const std::string& name, double alpha, double h, int reps) {
+  const SystemInfo& osc = find_system("oscillator");
+  const long N = step_count(h, T);
+  const double err = osc.max_error(scene(alpha), name, h, Path::fast, osc.reference(scene(alpha), h, N, ReferenceKind::exact, 0));
+  return {name, "h", alpha, h, err, N, osc.time_run(scene(alpha), name, h, Path::fast, reps)};
 }
 
 Point odeint_rk4(double alpha, double h, int reps) {
@@ -62,7 +67,7 @@ Point odeint_rk4(double alpha, double h, int reps) {
     State2 x{q0, p0};
     for (long j = 0; j < N; ++j) {
       st.do_step(sys, x, static_cast<double>(j) * h, h);
-      if (err) *err = std::max(*err, std::abs(x[0] - oscillator_exact(alpha, q0, p0, static_cast<double>(j + 1) * h).q));
+      if (err) *err = std::max(*err, std::abs(x[0] - exact_q(alpha, static_cast<double>(j + 1) * h)));
     }
     do_not_optimize(x[0]);
   };
@@ -80,7 +85,7 @@ Point odeint_adaptive(const std::string& name, Stepper make, double alpha, doubl
     State2 x{q0, p0};
     auto stepper = make(tol);
     size_t n = odeint::integrate_adaptive(stepper, sys, x, 0.0, T, 0.01, [&](const State2& y, double t) {
-      if (measure) err = std::max(err, std::abs(y[0] - oscillator_exact(alpha, q0, p0, t).q));
+      if (measure) err = std::max(err, std::abs(y[0] - exact_q(alpha, t)));
     });
     if (measure) steps = static_cast<long>(n);
     do_not_optimize(x[0]);
@@ -111,7 +116,7 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
         break;
       }
       ++n;
-      if (measure) err = std::max(err, std::abs(y[0] - oscillator_exact(alpha, q0, p0, t).q));
+      if (measure) err = std::max(err, std::abs(y[0] - exact_q(alpha, t)));
     }
     if (measure) steps = n;
     do_not_optimize(y[0]);
@@ -140,8 +145,10 @@ int main(int argc, char** argv) {
     require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
     const auto combos = sysopt.combinations();
     if (sysopt.system().name != "oscillator") return generic_work_precision(cli, sysopt, names, h_max, h_min, reps);
-    // The paper's oscillator: alpha 0.01, 0.1, 1 unless given; the schemes of the oscillator registry.
-    require(names.empty(), "work_precision on the oscillator compares the registry's schemes (drop --schemes)");
+    // The paper's oscillator: alpha 0.01, 0.1, 1 unless given; its first-order schemes and the second-order
+    // comparators under the paper's names.
+    require(names.empty(), "work_precision on the oscillator compares the paper's schemes (drop --schemes)");
+    const std::vector<std::string> osc_names{"la", "contact", "la-midpoint", "contact-sym", "leapfrog"};
     std::vector<double> alphas;
     for (const auto& pv : combos) alphas.push_back(param_value(pv, sysopt.system(), "alpha"));
     if (sysopt.swept().empty() && combos.front().end() == std::find_if(combos.front().begin(), combos.front().end(),
@@ -152,7 +159,7 @@ int main(int argc, char** argv) {
     T = param_value(combos.front(), sysopt.system(), "T");
     require(sysopt.swept().empty() || sysopt.swept() == std::vector<std::string>{"alpha"},
             "work_precision on the oscillator sweeps alpha only");
-    for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
+    for (double a : alphas) sysopt.system().validate(scene(a));
     const auto dir = prepare_output_dir(cli.out);
 
     const auto hs = halving_sequence(0.2, 2e-4);
@@ -168,8 +175,8 @@ int main(int argc, char** argv) {
         });
       };
       for (double h : hs) {
-        for (const auto& name : oscillator_defaults("work_precision"))
-          pts.push_back(point(name, "h", h, step_count(h, T), [&] { return fixed_step(find_oscillator_scheme(name), a, h, reps); }));
+        for (const auto& name : osc_names)
+          pts.push_back(point(name, "h", h, step_count(h, T), [&] { return fixed_step(name, a, h, reps); }));
         pts.push_back(point("odeint-rk4", "h", h, step_count(h, T), [&] { return odeint_rk4(a, h, reps); }));
       }
       for (double tol : tols) {
@@ -265,7 +272,7 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
       Point p{name, "h", std::nan(""), h, std::nan(""), step_count(h, Tsys), {std::nan(""), std::nan(""), std::nan(""), reps}};
       try {
         p.err = sys.max_error(pv, name, h, Path::fast, ref);
-        const double sec = sys.seconds_per_run(pv, name, h, Path::fast, reps);
+        const double sec = sys.time_run(pv, name, h, Path::fast, reps).median;
         p.time = {sec, sec, sec, reps};
       } catch (const NumericalFailure& f) {
         std::fprintf(stderr, "work_precision: %s (recorded as a missing value)\n", f.what());

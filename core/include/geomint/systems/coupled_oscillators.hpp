@@ -6,7 +6,7 @@
 // each in closed form (oscillator.hpp).
 #include "geomint/error.hpp"
 #include "geomint/generic/system.hpp"
-#include "geomint/oscillator.hpp"
+#include "geomint/linear_oscillator.hpp"
 
 namespace geomint::systems {
 
