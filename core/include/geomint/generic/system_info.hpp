@@ -339,8 +339,12 @@ std::vector<double> continuous_matrix_of(const Sys& sys) {
   constexpr int n = Sys::dof, N = 2 * n;
   auto field = [&](const Vec<double, N>& x) {
     const Vec<double, n> q = x.template head<n>(), v = x.template tail<n>();
-    Vec<double, N> y;
-    y << v, acceleration(sys, 0.0, q, v).a;
+    const Vec<double, n> a = acceleration(sys, 0.0, q, v).a;
+    Vec<double, N> y;  // element by element: Eigen's packet copies of 1-vectors trip GCC's -Warray-bounds
+    for (int i = 0; i < n; ++i) {
+      y(i) = v(i);
+      y(n + i) = a(i);
+    }
     return y;
   };
   const Vec<double, N> zero = field(Vec<double, N>::Zero());
