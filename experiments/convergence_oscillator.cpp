@@ -14,6 +14,7 @@
 #include "geomint/registry.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
+#include "geomint/sweep.hpp"
 
 using namespace geomint;
 
@@ -44,6 +45,13 @@ int main(int argc, char** argv) {
     for (const auto& n : names) osc.scheme(n);  // unknown names fail here
     const auto dir = prepare_output_dir(cli.out);
 
+    // The study (core/include/geomint/study.hpp): the closed forms against the closed-form solution, one parameter
+    // combination per alpha.
+    std::vector<ParamValues> combos;
+    for (double a : alphas) combos.push_back(scene(a));
+    const Sweep& sweep = Sweep::world();  // under mpirun the ranks share the runs; rank 0 writes
+    const ConvergenceStudy study = convergence_study(osc, combos, names, hs, Path::fast, ReferenceKind::exact, 0, sweep);
+    if (!sweep.root()) return 0;
     const Params params{{"h", format_list(hs)}, {"T", format_number(T)}, {"q0", format_number(q0)},
                         {"p0", format_number(p0)}, {"alpha", format_list(alphas)},
                         {"error", "max_j |q_j - q_exact(t_j)|, closed-form solution"}};
@@ -52,26 +60,15 @@ int main(int argc, char** argv) {
     TsvWriter fits(dir / "convergence_oscillator_fits.tsv", "convergence_oscillator", params,
                    {"scheme", "alpha", "fitted_order", "points", "expected_order"});
     std::printf("%-11s %-6s %-10s %12s %7s\n", "scheme", "alpha", "h", "err_max", "order");
-    for (const auto& name : names)
-      for (double a : alphas) {
-        const ParamValues pv = scene(a);
-        std::vector<double> errs;
-        for (double h : hs) {
-          // against the closed-form solution on this h's own grid; a failed run is a missing value, not a crash
-          errs.push_back(run_or_missing(
-              name + " alpha=" + show(a) + " h=" + show(h),
-              [&] {
-                return osc.max_error(pv, name, h, Path::fast, osc.reference(pv, h, step_count(h, T), ReferenceKind::exact, 0));
-              },
-              [] { return std::nan(""); }));
-        }
-        const auto orders = observed_orders(hs, errs);
+    for (std::size_t si = 0; si < names.size(); ++si)
+      for (std::size_t c = 0; c < alphas.size(); ++c) {
+        const ConvergenceSeries& se = study.series[c * names.size() + si];
+        const double a = alphas[c];
         for (size_t i = 0; i < hs.size(); ++i) {
-          tsv.row(name, a, hs[i], step_count(hs[i], T), errs[i], orders[i]);
-          std::printf("%-11s %-6g %-10g %12.4e %7.3f\n", name.c_str(), a, hs[i], errs[i], orders[i]);
+          tsv.row(se.scheme, a, hs[i], se.steps[i], se.err[i], se.local_order[i]);
+          std::printf("%-11s %-6g %-10g %12.4e %7.3f\n", se.scheme.c_str(), a, hs[i], se.err[i], se.local_order[i]);
         }
-        const auto fit = fit_order(hs, errs);
-        fits.row(name, a, fit.slope, fit.points, osc.scheme(name).order);
+        fits.row(se.scheme, a, se.fit.slope, se.fit.points, se.expected_order);
       }
     tsv.commit();
     fits.commit();
