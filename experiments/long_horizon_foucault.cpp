@@ -41,6 +41,7 @@
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/timing.hpp"
+#include "geomint/work_precision.hpp"
 #include "long_horizon_table.hpp"
 
 using namespace geomint;
@@ -106,11 +107,11 @@ class Probe {
   std::vector<std::array<double, 2>> drift_;
 };
 
+// A point of the study, and what its measured run saw besides the errors: the turning points' count and the
+// drift of (13) at them.
 struct Point {
-  std::string method, family, knob;
-  double T, value;
+  WorkPoint w;
   Structure s;
-  TimingStats time;
 };
 
 // The closed form Scheme on system Sys (its constraint row).
@@ -201,16 +202,27 @@ Structure rk8pd_run(const systems::FoucaultPendulum& sc, double tol, double T, b
   return measure ? probe.result(steps) : Structure{};
 }
 
+// The measures, in the summary's order: precession_err, decay_err, constraint_err, discrete_err and
+// own_constraint_err (the constraint each method imposes: discrete_err for the schemes, constraint_err for the ODE
+// methods).
 Point measure_point(const std::string& method, const std::string& family, const std::string& knob, double T, double value,
                     const std::function<Structure(bool)>& run, int reps) {
-  Point pt{method, family, knob, T, value, {}, {std::nan(""), std::nan(""), std::nan(""), reps}};
-  try {
-    pt.s = run(true);
-    pt.time = time_per_call([&] { do_not_optimize(run(false).steps); }, reps);
-  } catch (const NumericalFailure& f) {
-    std::fprintf(stderr, "long_horizon_foucault: %s, T = %g s, %s = %g: %s (recorded as missing values)\n", method.c_str(), T,
-                 knob.c_str(), value, f.what());
-  }
+  Point pt;
+  pt.w.method = method;
+  pt.w.family = family;
+  pt.w.knob = knob;
+  pt.w.horizon = T;
+  pt.w.value = value;
+  pt.w = geomint::measure_point(
+      pt.w, 5,
+      [&](bool m) {
+        Structure s = run(m);
+        const double own = family == "geometric" ? s.discrete : s.constraint;
+        Measured r{{s.precession, s.decay, s.constraint, s.discrete, own}, s.steps};
+        if (m) pt.s = std::move(s);
+        return r;
+      },
+      reps, method + ", T = " + show(T) + " s, " + knob + " = " + show(value));
   return pt;
 }
 
@@ -292,27 +304,34 @@ int main(int argc, char** argv) {
     // Drift of (13) over time: the finest run of each fixed-step method and the tightest of each adaptive one,
     // at the longest horizon.
     TsvWriter drift(dir / "long_horizon_foucault_drift.tsv", "long_horizon_foucault", params, {"method", "knob", "value", "t", "constraint_err"});
-    for (const auto& p : pts) {
-      data.row(p.method, p.family, alpha, p.T, p.knob, p.value, p.s.steps, p.s.turns, p.s.precession, p.s.decay,
-               p.s.constraint, p.s.discrete, p.family == "geometric" ? p.s.discrete : p.s.constraint);
-      tim.row(p.method, p.family, alpha, p.T, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
-      const bool pick = p.T == horizons.back() && p.value == (p.knob == "h" ? hs.back() : tols.back());
+    std::vector<WorkPoint> work;
+    for (auto& pt : pts) {
+      const WorkPoint& p = pt.w;
+      data.row(p.method, p.family, alpha, p.horizon, p.knob, p.value, p.steps, pt.s.turns, p.errors[0], p.errors[1],
+               p.errors[2], p.errors[3], p.errors[4]);
+      tim.row(p.method, p.family, alpha, p.horizon, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
+      const bool pick = p.horizon == horizons.back() && p.value == (p.knob == "h" ? hs.back() : tols.back());
       if (pick)
-        for (const auto& [t, c] : p.s.drift) drift.row(p.method, p.knob, p.value, t, c);
+        for (const auto& [t, c] : pt.s.drift) drift.row(p.method, p.knob, p.value, t, c);
+      work.push_back(p);
+      work.back().group = alpha;  // one damping: the summary's group
     }
     data.commit();
     tim.commit();
     drift.commit();
 
-    const auto d = plots::read_tsv(dir / "long_horizon_foucault.tsv");
-    const auto tt = plots::read_tsv(dir / "long_horizon_foucault_timings.tsv");
-    const long_horizon::Table table{d, tt, "alpha", "T"};
+    // the summary's measures: the errors' columns 0, 1, 2 and 4 (discrete_err is nan for the ODE methods)
     const std::vector<long_horizon::Measure> measures{
         {"precession_err", "precession-rate error |rate + s|/s", 1e-6},
         {"decay_err", "energy-decay-rate error |alpha_fit - alpha|/alpha", 1e-4},
         {"constraint_err", "max |Phi(q,v)| / (|q||v| + s|q|^2), (13)", 1e-8},
         {"own_constraint_err", "residual of the constraint each method imposes", 1e-12}};
-    long_horizon::summarise(table, measures, dir / "long_horizon_foucault_summary.tsv", "long_horizon_foucault", params);
+    for (auto& p : work) p.errors.erase(p.errors.begin() + 3);  // in the measures' order
+    long_horizon::summarise(work, measures, "alpha", "T", dir / "long_horizon_foucault_summary.tsv", "long_horizon_foucault",
+                            params);
+    const auto d = plots::read_tsv(dir / "long_horizon_foucault.tsv");
+    const auto tt = plots::read_tsv(dir / "long_horizon_foucault_timings.tsv");
+    const long_horizon::Table table{d, tt, "alpha", "T"};
 
     // The figure: the three measures against CPU time at the longest horizon, and the drift of (13) over time.
     const auto dr = plots::read_tsv(dir / "long_horizon_foucault_drift.tsv");

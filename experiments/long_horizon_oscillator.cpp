@@ -49,13 +49,6 @@ const Measure kMeasures[] = {{"decay_err", "decay-rate error |alpha_fit - alpha|
                              {"phase_err", "phase error at T (rad)", 1e-2},
                              {"balance_err", "dissipation balance error (max over windows)", 1e-5}};
 
-struct Point {
-  std::string method, family, knob;
-  double alpha, periods, value;
-  OscillatorStructure s;
-  TimingStats time;
-};
-
 using Runner = std::function<OscillatorStructure(bool measure)>;
 
 template <class S>
@@ -74,20 +67,28 @@ Runner geometric(const std::string& name, double alpha, double q0, double p0, do
   return run;
 }
 
-Point measure(const std::string& method, const std::string& family, const std::string& knob, double alpha,
-              double periods, double value, const Runner& run, int reps) {
-  Point p{method, family, knob, alpha, periods, value, {}, {std::nan(""), std::nan(""), std::nan(""), reps}};
-  try {
-    p.s = run(true);
-    p.time = time_per_call([&] { do_not_optimize(run(false).steps); }, reps);
-  } catch (const NumericalFailure& f) {
-    std::fprintf(stderr, "long_horizon_oscillator: %s, alpha = %g, %g periods, %s = %g: %s (recorded as missing values)\n",
-                 method.c_str(), alpha, periods, knob.c_str(), value, f.what());
-  }
-  return p;
-}
-
 double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
+
+// One point of the study: the four structural errors of kMeasures against the exact values (decay rate alpha,
+// frequency sqrt(1 - alpha^2/4), phase 0, balance 0), and the CPU time.
+WorkPoint measure(const std::string& method, const std::string& family, const std::string& knob, double alpha,
+                  double periods, double value, const Runner& run, int reps) {
+  WorkPoint p;
+  p.method = method;
+  p.family = family;
+  p.knob = knob;
+  p.group = alpha;
+  p.horizon = periods;
+  p.value = value;
+  const double w = std::sqrt(1 - alpha * alpha / 4);
+  return measure_point(
+      p, 4,
+      [&](bool m) {
+        const OscillatorStructure s = run(m);
+        return Measured{{rel(s.decay_rate, alpha), rel(s.frequency, w), std::abs(s.phase_end), s.balance}, s.steps};
+      },
+      reps, method + ", alpha = " + show(alpha) + ", " + show(periods) + " periods, " + knob + " = " + show(value));
+}
 
 }  // namespace
 
@@ -139,7 +140,7 @@ int main(int argc, char** argv) {
     // first order (the paper's), then the second-order comparators under the paper's names
     const std::vector<std::string> geo{"la", "contact", "la-midpoint", "contact-sym", "leapfrog"};
 
-    std::vector<Point> pts;
+    std::vector<WorkPoint> pts;
     for (double a : alphas)
       for (double P : periods) {
         std::fprintf(stderr, "long_horizon_oscillator: alpha = %g, %g periods ...\n", a, P);
@@ -186,21 +187,21 @@ int main(int argc, char** argv) {
     TsvWriter tim(dir / "long_horizon_oscillator_timings.tsv", "long_horizon_oscillator", params,
                   {"method", "family", "alpha", "periods", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
     for (const auto& p : pts) {
-      const double w = std::sqrt(1 - p.alpha * p.alpha / 4);
-      data.row(p.method, p.family, p.alpha, p.periods, p.knob, p.value, p.s.steps, rel(p.s.decay_rate, p.alpha),
-               rel(p.s.frequency, w), std::abs(p.s.phase_end), p.s.balance);
-      tim.row(p.method, p.family, p.alpha, p.periods, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
+      data.row(p.method, p.family, p.group, p.horizon, p.knob, p.value, p.steps, p.errors[0], p.errors[1], p.errors[2],
+               p.errors[3]);
+      tim.row(p.method, p.family, p.group, p.horizon, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
     }
     data.commit();
     tim.commit();
 
-    // Everything below is read back from the files just written.
+    std::vector<long_horizon::Measure> measures;
+    for (const auto& M : kMeasures) measures.push_back({M.column, M.label, M.target});
+    long_horizon::summarise(pts, measures, "alpha", "periods", dir / "long_horizon_oscillator_summary.tsv",
+                            "long_horizon_oscillator", params);
+    // The figure is drawn from the files just written.
     const auto d = plots::read_tsv(dir / "long_horizon_oscillator.tsv");
     const auto tt = plots::read_tsv(dir / "long_horizon_oscillator_timings.tsv");
     const long_horizon::Table table{d, tt, "alpha", "periods"};
-    std::vector<long_horizon::Measure> measures;
-    for (const auto& M : kMeasures) measures.push_back({M.column, M.label, M.target});
-    long_horizon::summarise(table, measures, dir / "long_horizon_oscillator_summary.tsv", "long_horizon_oscillator", params);
     long_horizon::draw(table, measures, format_number(periods.back()),
                        "Damped oscillator over " + format_number(periods.back()) +
                            " periods: structural error against CPU time (median)",

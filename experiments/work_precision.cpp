@@ -30,6 +30,7 @@
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 #include "geomint/timing.hpp"
+#include "geomint/work_precision.hpp"
 
 using namespace geomint;
 namespace odeint = boost::numeric::odeint;
@@ -37,12 +38,19 @@ using State2 = std::array<double, 2>;
 
 namespace {
 
-struct Point {
-  std::string method, knob;
-  double alpha, param, err;
-  long steps;
-  TimingStats time;
-};
+// A point of the study (work_precision.hpp): errors = {max_j |q_j - q(t_j)|}, group = alpha.
+using Point = WorkPoint;
+Point point(const std::string& method, const std::string& family, const std::string& knob, double alpha, double value,
+            long steps) {
+  Point p;
+  p.method = method;
+  p.family = family;
+  p.knob = knob;
+  p.group = alpha;
+  p.value = value;
+  p.steps = steps;
+  return p;
+}
 
 // The oscillator's scene (the paper's; --q0, --p0, --T change it).
 double T = 50, q0 = -0.25, p0 = 0.75;
@@ -55,8 +63,10 @@ double exact_q(double alpha, double t) {
 Point fixed_step(const std::string& name, double alpha, double h, int reps) {
   const SystemInfo& osc = find_system("oscillator");
   const long N = step_count(h, T);
-  const double err = osc.max_error(scene(alpha), name, h, Path::fast, osc.reference(scene(alpha), h, N, ReferenceKind::exact, 0));
-  return {name, "h", alpha, h, err, N, osc.time_run(scene(alpha), name, h, Path::fast, reps)};
+  Point p = point(name, "geometric", "h", alpha, h, N);
+  p.errors = {osc.max_error(scene(alpha), name, h, Path::fast, osc.reference(scene(alpha), h, N, ReferenceKind::exact, 0))};
+  p.time = osc.time_run(scene(alpha), name, h, Path::fast, reps);
+  return p;
 }
 
 Point odeint_rk4(double alpha, double h, int reps) {
@@ -73,7 +83,10 @@ Point odeint_rk4(double alpha, double h, int reps) {
   };
   double err = 0;
   run(&err);
-  return {"odeint-rk4", "h", alpha, h, err, N, time_per_call([&] { run(nullptr); }, reps)};
+  Point p = point("odeint-rk4", "rk", "h", alpha, h, N);
+  p.errors = {err};
+  p.time = time_per_call([&] { run(nullptr); }, reps);
+  return p;
 }
 
 template <class Stepper>
@@ -91,7 +104,10 @@ Point odeint_adaptive(const std::string& name, Stepper make, double alpha, doubl
     do_not_optimize(x[0]);
   };
   run(true);
-  return {name, "tol", alpha, tol, err, steps, time_per_call([&] { run(false); }, reps)};
+  Point p = point(name, "adaptive", "tol", alpha, tol, steps);
+  p.errors = {err};
+  p.time = time_per_call([&] { run(false); }, reps);
+  return p;
 }
 
 int gsl_rhs(double, const double y[], double f[], void* params) {
@@ -122,7 +138,10 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
     do_not_optimize(y[0]);
   };
   run(true);
-  return {"gsl-rk8pd", "tol", alpha, tol, err, steps, time_per_call([&] { run(false); }, reps)};
+  Point p = point("gsl-rk8pd", "adaptive", "tol", alpha, tol, steps);
+  p.errors = {err};
+  p.time = time_per_call([&] { run(false); }, reps);
+  return p;
 }
 
 }  // namespace
@@ -171,7 +190,10 @@ int main(int argc, char** argv) {
       auto point = [&](const std::string& method, const char* knob, double value, long steps, auto&& run) {
         const double nan = std::nan("");
         return run_or_missing(method + " alpha=" + show(a) + " " + knob + "=" + show(value), run, [&] {
-          return Point{method, knob, a, value, nan, steps, {nan, nan, nan, reps}};
+          Point p = ::point(method, "", knob, a, value, steps);
+          p.errors = {nan};
+          p.time = {nan, nan, nan, reps};
+          return p;
         });
       };
       for (double h : hs) {
@@ -199,8 +221,8 @@ int main(int argc, char** argv) {
     TsvWriter tim(dir / "work_precision_timings.tsv", "work_precision", params,
                   {"method", "alpha", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
     for (const auto& p : pts) {
-      data.row(p.method, p.alpha, p.knob, p.param, p.steps, p.err);
-      tim.row(p.method, p.alpha, p.knob, p.param, p.time.median, p.time.min, p.time.max, p.time.reps);
+      data.row(p.method, p.group, p.knob, p.value, p.steps, p.errors[0]);
+      tim.row(p.method, p.group, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
     }
     data.commit();
     tim.commit();
@@ -269,15 +291,10 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
   std::vector<Point> pts;
   for (const auto& name : schemes)
     for (double h : hs) {
-      Point p{name, "h", std::nan(""), h, std::nan(""), step_count(h, Tsys), {std::nan(""), std::nan(""), std::nan(""), reps}};
-      try {
-        p.err = sys.max_error(pv, name, h, Path::fast, ref);
-        const double sec = sys.time_run(pv, name, h, Path::fast, reps).median;
-        p.time = {sec, sec, sec, reps};
-      } catch (const NumericalFailure& f) {
-        std::fprintf(stderr, "work_precision: %s (recorded as a missing value)\n", f.what());
-      }
-      pts.push_back(p);
+      pts.push_back(measure_point_timed(
+          point(name, "geometric", "h", std::nan(""), h, step_count(h, Tsys)), 1,
+          [&] { return Measured{{sys.max_error(pv, name, h, Path::fast, ref)}, step_count(h, Tsys)}; },
+          [&] { return sys.time_run(pv, name, h, Path::fast, reps); }, reps, sys.name + " " + name + " h=" + show(h)));
     }
   // Odeint on x = (q, q'), the acceleration derived from L, F and Phi by AD
   using State = std::vector<double>;
@@ -320,9 +337,17 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
             for (int i = 0; i < n; ++i)
               e = std::max(e, std::abs(xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] -
                                        ref.q[static_cast<std::size_t>(j * stride * n + i)]));
-          return Point{"odeint-rk4", "h", nan, h, e, N, time_per_call([&] { run(nullptr); }, reps)};
+          Point p = point("odeint-rk4", "rk", "h", nan, h, N);
+          p.errors = {e};
+          p.time = time_per_call([&] { run(nullptr); }, reps);
+          return p;
         },
-        [&] { return Point{"odeint-rk4", "h", nan, h, nan, N, {nan, nan, nan, reps}}; }));
+        [&] {
+          Point p = point("odeint-rk4", "rk", "h", nan, h, N);
+          p.errors = {nan};
+          p.time = {nan, nan, nan, reps};
+          return p;
+        }));
   }
   for (double tol : tols) {
     auto dense = [&](auto stepper, std::vector<State>* out) {
@@ -338,19 +363,33 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
         [&] {
           std::vector<State> xs;
           const long steps = dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), &xs);
-          return Point{"odeint-dopri5", "tol", nan, tol, error_of(xs), steps,
-                       time_per_call([&] { dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), nullptr); }, reps)};
+          Point p = point("odeint-dopri5", "adaptive", "tol", nan, tol, steps);
+          p.errors = {error_of(xs)};
+          p.time = time_per_call([&] { dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), nullptr); }, reps);
+          return p;
         },
-        [&] { return Point{"odeint-dopri5", "tol", nan, tol, nan, 0, {nan, nan, nan, reps}}; }));
+        [&] {
+          Point p = point("odeint-dopri5", "adaptive", "tol", nan, tol, 0);
+          p.errors = {nan};
+          p.time = {nan, nan, nan, reps};
+          return p;
+        }));
     pts.push_back(run_or_missing(
         sys.name + " odeint-bulirsch-stoer tol=" + show(tol),
         [&] {
           std::vector<State> xs;
           const long steps = dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), &xs);
-          return Point{"odeint-bulirsch-stoer", "tol", nan, tol, error_of(xs), steps,
-                       time_per_call([&] { dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), nullptr); }, reps)};
+          Point p = point("odeint-bulirsch-stoer", "adaptive", "tol", nan, tol, steps);
+          p.errors = {error_of(xs)};
+          p.time = time_per_call([&] { dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), nullptr); }, reps);
+          return p;
         },
-        [&] { return Point{"odeint-bulirsch-stoer", "tol", nan, tol, nan, 0, {nan, nan, nan, reps}}; }));
+        [&] {
+          Point p = point("odeint-bulirsch-stoer", "adaptive", "tol", nan, tol, 0);
+          p.errors = {nan};
+          p.time = {nan, nan, nan, reps};
+          return p;
+        }));
   }
   Params params = sysopt.header();
   params.insert(params.end(), {{"h", format_list(hs)}, {"tol", format_list(tols)}, {"reps", std::to_string(reps)},
@@ -362,8 +401,8 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
                 {"system", "method", "knob", "value", "seconds_median", "reps"});
   std::vector<std::string> methods;
   for (const auto& p : pts) {
-    data.row(sys.name, p.method, p.knob, p.param, p.steps, p.err);
-    tim.row(sys.name, p.method, p.knob, p.param, p.time.median, p.time.reps);
+    data.row(sys.name, p.method, p.knob, p.value, p.steps, p.errors[0]);
+    tim.row(sys.name, p.method, p.knob, p.value, p.time.median, p.time.reps);
     if (std::find(methods.begin(), methods.end(), p.method) == methods.end()) methods.push_back(p.method);
   }
   data.commit();
