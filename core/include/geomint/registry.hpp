@@ -64,6 +64,27 @@ struct Run {
   }
 };
 
+// What the tests of a system expect of it (tests/generic_systems.test.cpp), declared with the system where it
+// differs from the defaults (a system's `static Expectations expectations()`): the parameters and step sizes of
+// the convergence test, and the order a scheme shows there where it is not the scheme's own. The test fits the
+// order on the asymptotic range (asymptotic_order, study.hpp) and holds it to `orders` within order_tolerance; a
+// fit that is still pre-asymptotic there is reported as such, not failed. Defaults: the system's parameters with
+// the horizon cut to 20 (several oscillations, short enough for CI), h = 0.1 halved five times, the reference the
+// closed form where there is one (else Odeint at 1e-13).
+struct Expectations {
+  ParamValues params;                               // overrides of the system's defaults for the test
+  double h_max = 0.1;
+  int halvings = 5;                                 // h = h_max / 2^k, k = 0..halvings
+  std::vector<std::pair<std::string, int>> orders;  // scheme -> the order it shows here, where not its own
+  double order_tolerance = 0.1;
+  std::string why;                                  // the reason for every declaration above
+  int order_of(const std::string& scheme, int own) const {
+    for (const auto& [s, k] : orders)
+      if (s == scheme) return k;
+    return own;
+  }
+};
+
 // A reference solution on the grid t_j = j h, j = 0..N.
 struct Reference {
   std::string kind;  // what it is ("closed form", "Boost.Odeint dopri5 ... tol ...")
@@ -83,6 +104,7 @@ struct SystemInfo {
   bool has_exact = false, has_herglotz = false, has_rhs = false, linear = false;
   std::vector<ParamInfo> params;
   std::vector<SchemeInfo> schemes;
+  Expectations expectations;  // what its tests expect (declared with the system, or the defaults)
 
   // Operations on this system (function pointers into its generated translation unit).
   void (*validate)(const ParamValues&) = nullptr;  // InputError naming the first bad value

@@ -359,6 +359,24 @@ std::vector<double> continuous_matrix_of(const Sys& sys) {
 // ---------------------------------------------------------------------------------------------------
 // The registry entry
 
+template <class Sys, class = void>
+struct has_expectations : std::false_type {};
+template <class Sys>
+struct has_expectations<Sys, std::void_t<decltype(Sys::expectations())>> : std::true_type {};
+
+// The system's declared expectations, or the defaults (the horizon cut to 20).
+template <class Sys>
+Expectations expectations_of() {
+  if constexpr (has_expectations<Sys>::value) {
+    return Sys::expectations();
+  } else {
+    Expectations e;
+    const double T = horizon_of(Sys{});
+    if (T > 20) e.params = {{"T", 20}};
+    return e;
+  }
+}
+
 template <class Sys>
 SystemInfo make_system_info() {
   SystemInfo info;
@@ -393,6 +411,7 @@ SystemInfo make_system_info() {
     info.schemes.push_back(si);
   });
 
+  info.expectations = expectations_of<Sys>();
   info.validate = [](const ParamValues& pv) { make_system<Sys>(pv).validate(); };
   info.horizon = [](const ParamValues& pv) { return horizon_of(make_system<Sys>(pv)); };
   info.run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, long every) {
