@@ -51,6 +51,10 @@ Point point(const std::string& method, const std::string& family, const std::str
   p.steps = steps;
   return p;
 }
+// How a missing point of the oscillator's study is named on stderr.
+std::string context(const std::string& method, double alpha, const char* knob, double value) {
+  return method + " alpha=" + show(alpha) + " " + knob + "=" + show(value);
+}
 
 // The oscillator's scene (the paper's; --q0, --p0, --T change it).
 double T = 50, q0 = -0.25, p0 = 0.75;
@@ -63,10 +67,13 @@ double exact_q(double alpha, double t) {
 Point fixed_step(const std::string& name, double alpha, double h, int reps) {
   const SystemInfo& osc = find_system("oscillator");
   const long N = step_count(h, T);
-  Point p = point(name, "geometric", "h", alpha, h, N);
-  p.errors = {osc.max_error(scene(alpha), name, h, Path::fast, osc.reference(scene(alpha), h, N, ReferenceKind::exact, 0))};
-  p.time = osc.time_run(scene(alpha), name, h, Path::fast, reps);
-  return p;
+  return measure_point_timed(
+      point(name, "geometric", "h", alpha, h, N), 1,
+      [&] {
+        return Measured{{osc.max_error(scene(alpha), name, h, Path::fast, osc.reference(scene(alpha), h, N, ReferenceKind::exact, 0))},
+                        N};
+      },
+      [&] { return osc.time_run(scene(alpha), name, h, Path::fast, reps); }, reps, context(name, alpha, "h", h));
 }
 
 Point odeint_rk4(double alpha, double h, int reps) {
@@ -81,12 +88,14 @@ Point odeint_rk4(double alpha, double h, int reps) {
     }
     do_not_optimize(x[0]);
   };
-  double err = 0;
-  run(&err);
-  Point p = point("odeint-rk4", "rk", "h", alpha, h, N);
-  p.errors = {err};
-  p.time = time_per_call([&] { run(nullptr); }, reps);
-  return p;
+  return measure_point_timed(
+      point("odeint-rk4", "rk", "h", alpha, h, N), 1,
+      [&] {
+        double err = 0;
+        run(&err);
+        return Measured{{err}, N};
+      },
+      [&] { return time_per_call([&] { run(nullptr); }, reps); }, reps, context("odeint-rk4", alpha, "h", h));
 }
 
 template <class Stepper>
@@ -103,11 +112,13 @@ Point odeint_adaptive(const std::string& name, Stepper make, double alpha, doubl
     if (measure) steps = static_cast<long>(n);
     do_not_optimize(x[0]);
   };
-  run(true);
-  Point p = point(name, "adaptive", "tol", alpha, tol, steps);
-  p.errors = {err};
-  p.time = time_per_call([&] { run(false); }, reps);
-  return p;
+  return measure_point_timed(
+      point(name, "adaptive", "tol", alpha, tol, 0), 1,
+      [&] {
+        run(true);
+        return Measured{{err}, steps};
+      },
+      [&] { return time_per_call([&] { run(false); }, reps); }, reps, context(name, alpha, "tol", tol));
 }
 
 int gsl_rhs(double, const double y[], double f[], void* params) {
@@ -137,11 +148,13 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
     if (measure) steps = n;
     do_not_optimize(y[0]);
   };
-  run(true);
-  Point p = point("gsl-rk8pd", "adaptive", "tol", alpha, tol, steps);
-  p.errors = {err};
-  p.time = time_per_call([&] { run(false); }, reps);
-  return p;
+  return measure_point_timed(
+      point("gsl-rk8pd", "adaptive", "tol", alpha, tol, 0), 1,
+      [&] {
+        run(true);
+        return Measured{{err}, steps};
+      },
+      [&] { return time_per_call([&] { run(false); }, reps); }, reps, context("gsl-rk8pd", alpha, "tol", tol));
 }
 
 }  // namespace
@@ -186,32 +199,18 @@ int main(int argc, char** argv) {
     std::vector<Point> pts;
     for (double a : alphas) {
       std::fprintf(stderr, "work_precision: alpha = %g ...\n", a);
-      // A run that fails is a missing point (nan error and times); the sweep goes on.
-      auto point = [&](const std::string& method, const char* knob, double value, long steps, auto&& run) {
-        const double nan = std::nan("");
-        return run_or_missing(method + " alpha=" + show(a) + " " + knob + "=" + show(value), run, [&] {
-          Point p = ::point(method, "", knob, a, value, steps);
-          p.errors = {nan};
-          p.time = {nan, nan, nan, reps};
-          return p;
-        });
-      };
+      // A run that fails is a missing point (nan error and times, measure_point_timed); the sweep goes on.
       for (double h : hs) {
-        for (const auto& name : osc_names)
-          pts.push_back(point(name, "h", h, step_count(h, T), [&] { return fixed_step(name, a, h, reps); }));
-        pts.push_back(point("odeint-rk4", "h", h, step_count(h, T), [&] { return odeint_rk4(a, h, reps); }));
+        for (const auto& name : osc_names) pts.push_back(fixed_step(name, a, h, reps));
+        pts.push_back(odeint_rk4(a, h, reps));
       }
       for (double tol : tols) {
-        pts.push_back(point("odeint-dopri5", "tol", tol, 0, [&] {
-          return odeint_adaptive(
-              "odeint-dopri5",
-              [](double t) { return odeint::make_controlled(t, t, odeint::runge_kutta_dopri5<State2>()); }, a, tol, reps);
-        }));
-        pts.push_back(point("odeint-bulirsch-stoer", "tol", tol, 0, [&] {
-          return odeint_adaptive(
-              "odeint-bulirsch-stoer", [](double t) { return odeint::bulirsch_stoer<State2>(t, t); }, a, tol, reps);
-        }));
-        pts.push_back(point("gsl-rk8pd", "tol", tol, 0, [&] { return gsl_rk8pd(a, tol, reps); }));
+        pts.push_back(odeint_adaptive(
+            "odeint-dopri5", [](double t) { return odeint::make_controlled(t, t, odeint::runge_kutta_dopri5<State2>()); },
+            a, tol, reps));
+        pts.push_back(odeint_adaptive(
+            "odeint-bulirsch-stoer", [](double t) { return odeint::bulirsch_stoer<State2>(t, t); }, a, tol, reps));
+        pts.push_back(gsl_rk8pd(a, tol, reps));
       }
     }
     const Params params{{"alpha", format_list(alphas)}, {"T", format_number(T)}, {"q0", format_number(q0)}, {"p0", format_number(p0)},
@@ -326,9 +325,8 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
       }
       do_not_optimize(x[0]);
     };
-    const double nan = std::nan("");
-    pts.push_back(run_or_missing(
-        sys.name + " odeint-rk4 h=" + show(h),
+    pts.push_back(measure_point_timed(
+        point("odeint-rk4", "rk", "h", std::nan(""), h, N), 1,
         [&] {
           std::vector<State> xs;
           run(&xs);
@@ -337,17 +335,9 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
             for (int i = 0; i < n; ++i)
               e = std::max(e, std::abs(xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] -
                                        ref.q[static_cast<std::size_t>(j * stride * n + i)]));
-          Point p = point("odeint-rk4", "rk", "h", nan, h, N);
-          p.errors = {e};
-          p.time = time_per_call([&] { run(nullptr); }, reps);
-          return p;
+          return Measured{{e}, N};
         },
-        [&] {
-          Point p = point("odeint-rk4", "rk", "h", nan, h, N);
-          p.errors = {nan};
-          p.time = {nan, nan, nan, reps};
-          return p;
-        }));
+        [&] { return time_per_call([&] { run(nullptr); }, reps); }, reps, sys.name + " odeint-rk4 h=" + show(h)));
   }
   for (double tol : tols) {
     auto dense = [&](auto stepper, std::vector<State>* out) {
@@ -357,39 +347,20 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
       do_not_optimize(x[0]);
       return static_cast<long>(k);
     };
-    const double nan = std::nan("");
-    pts.push_back(run_or_missing(
-        sys.name + " odeint-dopri5 tol=" + show(tol),
-        [&] {
-          std::vector<State> xs;
-          const long steps = dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), &xs);
-          Point p = point("odeint-dopri5", "adaptive", "tol", nan, tol, steps);
-          p.errors = {error_of(xs)};
-          p.time = time_per_call([&] { dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), nullptr); }, reps);
-          return p;
-        },
-        [&] {
-          Point p = point("odeint-dopri5", "adaptive", "tol", nan, tol, 0);
-          p.errors = {nan};
-          p.time = {nan, nan, nan, reps};
-          return p;
-        }));
-    pts.push_back(run_or_missing(
-        sys.name + " odeint-bulirsch-stoer tol=" + show(tol),
-        [&] {
-          std::vector<State> xs;
-          const long steps = dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), &xs);
-          Point p = point("odeint-bulirsch-stoer", "adaptive", "tol", nan, tol, steps);
-          p.errors = {error_of(xs)};
-          p.time = time_per_call([&] { dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), nullptr); }, reps);
-          return p;
-        },
-        [&] {
-          Point p = point("odeint-bulirsch-stoer", "adaptive", "tol", nan, tol, 0);
-          p.errors = {nan};
-          p.time = {nan, nan, nan, reps};
-          return p;
-        }));
+    // an adaptive run's error and steps (measured), or the same work with nothing kept (timed)
+    auto adaptive = [&](const std::string& method, auto make) {
+      return measure_point_timed(
+          point(method, "adaptive", "tol", std::nan(""), tol, 0), 1,
+          [&] {
+            std::vector<State> xs;
+            const long steps = dense(make(), &xs);
+            return Measured{{error_of(xs)}, steps};
+          },
+          [&] { return time_per_call([&] { dense(make(), nullptr); }, reps); }, reps,
+          sys.name + " " + method + " tol=" + show(tol));
+    };
+    pts.push_back(adaptive("odeint-dopri5", [&] { return odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()); }));
+    pts.push_back(adaptive("odeint-bulirsch-stoer", [&] { return odeint::bulirsch_stoer_dense_out<State>(tol, tol); }));
   }
   Params params = sysopt.header();
   params.insert(params.end(), {{"h", format_list(hs)}, {"tol", format_list(tols)}, {"reps", std::to_string(reps)},
