@@ -137,14 +137,8 @@ struct Study {
   int reps;
   WorkPoint point(const std::string& method, const std::string& family, const std::string& knob, double periods,
                   double value, const std::function<Fit(bool)>& run, const std::function<TimingStats()>& timing) const {
-    WorkPoint p;
-    p.method = method;
-    p.family = family;
-    p.knob = knob;
-    p.horizon = periods;
-    p.value = value;
     return measure_point_timed(
-        p, 2,
+        work_point(method, family, knob, value, WorkPoint::nan, periods), 2,
         [&] {
           const Fit f = run(true);
           return Measured{{std::abs(f.amp - C) / C, std::abs(f.phase - delta)}, f.steps};

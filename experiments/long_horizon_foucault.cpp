@@ -208,13 +208,8 @@ Structure rk8pd_run(const systems::FoucaultPendulum& sc, double tol, double T, b
 Point measure_point(const std::string& method, const std::string& family, const std::string& knob, double T, double value,
                     const std::function<Structure(bool)>& run, int reps) {
   Point pt;
-  pt.w.method = method;
-  pt.w.family = family;
-  pt.w.knob = knob;
-  pt.w.horizon = T;
-  pt.w.value = value;
   pt.w = geomint::measure_point(
-      pt.w, 5,
+      work_point(method, family, knob, value, WorkPoint::nan, T), 5,
       [&](bool m) {
         Structure s = run(m);
         const double own = family == "geometric" ? s.discrete : s.constraint;

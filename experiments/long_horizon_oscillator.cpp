@@ -73,16 +73,9 @@ double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
 // frequency sqrt(1 - alpha^2/4), phase 0, balance 0), and the CPU time.
 WorkPoint measure(const std::string& method, const std::string& family, const std::string& knob, double alpha,
                   double periods, double value, const Runner& run, int reps) {
-  WorkPoint p;
-  p.method = method;
-  p.family = family;
-  p.knob = knob;
-  p.group = alpha;
-  p.horizon = periods;
-  p.value = value;
   const double w = std::sqrt(1 - alpha * alpha / 4);
   return measure_point(
-      p, 4,
+      work_point(method, family, knob, value, alpha, periods), 4,
       [&](bool m) {
         const OscillatorStructure s = run(m);
         return Measured{{rel(s.decay_rate, alpha), rel(s.frequency, w), std::abs(s.phase_end), s.balance}, s.steps};

@@ -38,16 +38,12 @@ using State2 = std::array<double, 2>;
 
 namespace {
 
-// A point of the study (work_precision.hpp): errors = {max_j |q_j - q(t_j)|}, group = alpha.
+// A point of the study (work_precision.hpp): errors = {max_j |q_j - q(t_j)|}, group = alpha; its step count is
+// known before the run (0 for the adaptive methods), and stays in the table where the run fails.
 using Point = WorkPoint;
 Point point(const std::string& method, const std::string& family, const std::string& knob, double alpha, double value,
             long steps) {
-  Point p;
-  p.method = method;
-  p.family = family;
-  p.knob = knob;
-  p.group = alpha;
-  p.value = value;
+  Point p = work_point(method, family, knob, value, alpha);
   p.steps = steps;
   return p;
 }

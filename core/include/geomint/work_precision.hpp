@@ -33,6 +33,20 @@ struct WorkPoint {
   std::string failure;                 // why the point is missing ("" when it is not)
 };
 
+// A point before it is measured: the method, its family and knob, the knob's value, and the study's group and
+// horizon (NaN where the study has none).
+inline WorkPoint work_point(std::string method, std::string family, std::string knob, double value,
+                            double group = WorkPoint::nan, double horizon = WorkPoint::nan) {
+  WorkPoint p;
+  p.method = std::move(method);
+  p.family = std::move(family);
+  p.knob = std::move(knob);
+  p.value = value;
+  p.group = group;
+  p.horizon = horizon;
+  return p;
+}
+
 // What a measured run returns: its errors (in the study's order) and its step count.
 struct Measured {
   std::vector<double> errors;
