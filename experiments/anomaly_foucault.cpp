@@ -55,7 +55,7 @@ std::string series_style(const std::string& scheme, const std::string& constrain
 
 int main(int argc, char** argv) {
   return guarded_main("anomaly_foucault", [&] {
-    FoucaultScene base;
+    systems::FoucaultPendulum base;  // the scene of both systems
     long runs = 1000;
     std::vector<double> hs{0.1, 0.05, 0.02, 0.01, 0.005}, alphas{1e-3, 1e-4};
     std::vector<std::string> names{"la-nh", "contact-nh"}, constraint_names{"paper", "rotation"};
@@ -87,9 +87,12 @@ int main(int argc, char** argv) {
     // Validate everything before writing anything.
     require(runs >= 1 && runs <= 1000000, "runs must be in [1, 1000000]");
     validate_foucault_sweep(base, hs, alphas);
-    for (const auto& n : names) visit_foucault_scheme(n, [](auto) {});
-    std::vector<FoucaultConstraint> constraints;
-    for (const auto& c : constraint_names) constraints.push_back(parse_foucault_constraint(c));
+    // the discretizations of (13) are the two systems: paper is foucault, rotation is foucault-rotation
+    std::vector<std::string> constraints;
+    for (const auto& c : constraint_names) constraints.push_back(systems::foucault_system_name(c));
+    for (const auto& n : names)  // a scheme with a closed form ((15), (18)) on each system
+      for (const auto& c : constraints)
+        systems::visit_foucault_system(c, [&](auto sys) { generic::visit_closed_form<decltype(sys)>(n, [](auto) {}); });
     require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
     require(std::isfinite(record_deg) && record_deg > 0 && record_deg < 90, "record-deg must be in (0, 90)");
     require(worst >= 0 && worst <= 100, "worst must be in [0, 100]");
@@ -139,7 +142,7 @@ int main(int argc, char** argv) {
                         {"predicted", "paper: asin(-sigma s h |q_{L-1}|/|q_L|) + s h at the landing q_L; rotation: 0"},
                         {"energy_ratio_end", "E_{N-1/2} / (E0 exp(-alpha (T - h/2))), chord energy"},
                         {"intervals", "p_*_lo, p_*_hi: 95 % Clopper-Pearson; *_se: standard error of the mean"}};
-    for (auto& kv : foucault_scene_params(base)) params.push_back(kv);
+    for (auto& kv : base.header_params()) params.push_back(kv);
 
     // ---- one row per run
     {
@@ -152,7 +155,7 @@ int main(int argc, char** argv) {
         const bool ok = r.status == "ok";
         const auto& S = r.summary;
         const auto& M = S.max;
-        tsv.row(r.c.run, r.c.scheme, to_string(r.c.constraint), r.c.alpha, r.c.h, r.c.tau, r.steps, r.status,
+        tsv.row(r.c.run, r.c.scheme, systems::foucault_discretization(r.c.system), r.c.alpha, r.c.h, r.c.tau, r.steps, r.status,
                 ok ? M.measured * deg : NaN, ok ? M.t_land : NaN, ok ? M.r_land : NaN, ok ? M.rho : NaN,
                 ok ? M.predicted * deg : NaN, ok ? M.energy_loss : NaN, ok ? S.energy_ratio_end : NaN,
                 ok ? r.energy_ratio_exact : NaN, ok ? S.plane_error * deg : NaN, ok ? S.half_swings : 0L,
@@ -168,7 +171,7 @@ int main(int argc, char** argv) {
                      "energy_loss", "predicted_energy_loss"});
       for (const auto& r : results)
         for (const auto& J : r.jumps)
-          tsv.row(r.c.run, r.c.scheme, to_string(r.c.constraint), r.c.alpha, r.c.h, r.c.tau, J.t_land, J.t_turn,
+          tsv.row(r.c.run, r.c.scheme, systems::foucault_discretization(r.c.system), r.c.alpha, r.c.h, r.c.tau, J.t_land, J.t_turn,
                   J.j_land, J.j_prev_turn, static_cast<long>(J.side), J.rho, J.r_land, J.r_prev, J.measured * deg,
                   J.predicted * deg, J.simple * deg, J.energy_loss, std::pow(std::sin(J.predicted - s * r.c.h), 2));
       tsv.commit();
@@ -185,7 +188,7 @@ int main(int argc, char** argv) {
                      "jumps_per_run_1deg_se", "jumps_per_run_5deg", "jumps_per_run_5deg_se", "jumps_per_run_20deg",
                      "jumps_per_run_20deg_se", "jumps_pred_1deg", "jumps_pred_5deg", "jumps_pred_20deg"});
       for (const auto& c : cells)
-        tsv.row(c.scheme, to_string(c.constraint), c.alpha, c.h, c.runs, c.failed, c.p_jump[0], c.p_jump_ci[0].lo,
+        tsv.row(c.scheme, systems::foucault_discretization(c.system), c.alpha, c.h, c.runs, c.failed, c.p_jump[0], c.p_jump_ci[0].lo,
                 c.p_jump_ci[0].hi, c.p_jump[1], c.p_jump_ci[1].lo, c.p_jump_ci[1].hi, c.p_jump[2], c.p_jump_ci[2].lo,
                 c.p_jump_ci[2].hi, c.p_predicted[0], c.p_predicted[1], c.p_predicted[2], c.p_energy_loss,
                 c.p_energy_loss_ci.lo, c.p_energy_loss_ci.hi, c.p_energy_predicted, c.median_abs_plane_error_deg,
@@ -413,7 +416,7 @@ int main(int argc, char** argv) {
                 "runs", "fail", "P>1deg [CI] (pred)", "P>5deg [CI] (pred)", "P>20deg [CI] (pred)", "E-1% [CI] (pred)",
                 "med|dpl|", "p90|dpl|", "max jump");
     for (const auto& c : cells) {
-      const bool rot = c.constraint == FoucaultConstraint::rotation;
+      const bool rot = c.system == systems::FoucaultRotation::name;
       auto pp = [&](double p, const Interval& ci, double pred) {
         char b[64];
         if (rot)
@@ -423,7 +426,7 @@ int main(int argc, char** argv) {
         return std::string(b);
       };
       std::printf("%-10s %-8s %-6g %-6g %5ld %4ld %27s %27s %27s %27s %9.3g %9.3g %9.3g\n", c.scheme.c_str(),
-                  to_string(c.constraint), c.alpha, c.h, c.runs, c.failed,
+                  systems::foucault_discretization(c.system).c_str(), c.alpha, c.h, c.runs, c.failed,
                   pp(c.p_jump[0], c.p_jump_ci[0], c.p_predicted[0]).c_str(),
                   pp(c.p_jump[1], c.p_jump_ci[1], c.p_predicted[1]).c_str(),
                   pp(c.p_jump[2], c.p_jump_ci[2], c.p_predicted[2]).c_str(),
@@ -435,7 +438,7 @@ int main(int argc, char** argv) {
                 "+- standard error (expected N_pass 2 s h / sin K, exact in expectation for uniform landings)\n");
     std::printf("%-10s %-6s %-6s %25s %25s %25s\n", "scheme", "alpha", "h", ">1deg", ">5deg", ">20deg");
     for (const auto& c : cells) {
-      if (c.constraint != FoucaultConstraint::paper) continue;
+      if (c.system != systems::Foucault::name) continue;
       std::printf("%-10s %-6g %-6g", c.scheme.c_str(), c.alpha, c.h);
       for (std::size_t k = 0; k < 3; ++k)
         std::printf("   %6.3f +- %5.3f (%6.3f)", c.mean_jumps[k], c.mean_jumps_se[k], c.mean_predicted[k]);
@@ -448,7 +451,7 @@ int main(int argc, char** argv) {
       long n = 0, n_big = 0, sign_ok = 0;
       for (const auto& r : results)
         for (const auto& J : r.jumps) {
-          if (r.c.constraint != FoucaultConstraint::paper) continue;
+          if (r.c.system != systems::Foucault::name) continue;
           ++n;
           const double rel = std::abs(J.measured - J.predicted) / std::abs(J.predicted);
           worst_rel = std::max(worst_rel, rel);
@@ -483,7 +486,7 @@ int main(int argc, char** argv) {
       for (const auto& n : names) {
         std::vector<const AnomalyRun*> cand;
         for (const auto& r : results)
-          if (r.c.scheme == n && r.c.constraint == FoucaultConstraint::paper && r.status == "ok" &&
+          if (r.c.scheme == n && r.c.system == systems::Foucault::name && r.status == "ok" &&
               std::isfinite(r.summary.max.measured))
             cand.push_back(&r);
         std::sort(cand.begin(), cand.end(), [](const AnomalyRun* a, const AnomalyRun* b) {
@@ -513,7 +516,7 @@ int main(int argc, char** argv) {
             const auto& M = rr.run.summary.max;
             const bool ok = rr.run.status == "ok";
             const double rel = ok ? std::abs(M.measured - jd) / std::abs(jd) : NaN;
-            tsv.row(n, to_string(r.c.constraint), r.c.alpha, r.c.h, r.c.run, r.c.tau, to_string(rr.p), rr.mode,
+            tsv.row(n, systems::foucault_discretization(r.c.system), r.c.alpha, r.c.h, r.c.run, r.c.tau, to_string(rr.p), rr.mode,
                     stop, rr.run.status, ok ? M.j_land : -1L, ok ? M.t_land : NaN, ok ? M.r_land : NaN,
                     ok ? M.rho : NaN, ok ? M.measured * deg : NaN, ok ? M.predicted * deg : NaN,
                     ok ? M.energy_loss : NaN, rel);

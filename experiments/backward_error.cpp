@@ -15,22 +15,13 @@
 #include "geomint/io.hpp"
 #include "geomint/modified/agreement.hpp"
 #include "geomint/modified/all_orders.hpp"
-#include "geomint/oscillator_registry.hpp"
-#include "geomint/oscillator_schemes.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/record.hpp"
 #include "geomint/study.hpp"
 
 using namespace geomint;
 using namespace geomint::modified;
-
-namespace {
-
-AllOrders all_orders_of(const std::string& scheme, double h, double alpha) {
-  return scheme == "la" ? all_orders<schemes::La>(h, alpha) : all_orders<schemes::Contact>(h, alpha);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   return guarded_main("backward_error", [&] {
@@ -48,7 +39,9 @@ int main(int argc, char** argv) {
     // the discrete runs, their modified solutions and the all-orders runs: about 5 runs per (scheme, alpha, h)
     for (double h : hs) plan_steps(5.0 * 2 * static_cast<double>(alphas.size()) * static_cast<double>(step_count(h, T)),
                                    "the sweep (schemes x alpha x starts x T/h)");
-    for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
+    const SystemInfo& osc = find_system("oscillator");
+    auto scene = [&](double a) { return ParamValues{{"alpha", a}, {"q0", q0}, {"p0", p0}, {"T", T}}; };
+    for (double a : alphas) osc.validate(scene(a));
     require(std::isfinite(tol) && tol > 0 && tol <= 1e-6, "tol must be in (0, 1e-6]");
     check_tolerance(tol, "tol");
     const auto dir = prepare_output_dir(cli.out);
@@ -113,14 +106,14 @@ int main(int argc, char** argv) {
     for (const auto& s : names)
       for (double a : alphas)
         for (double h : hs) {
-          const auto m = all_orders_of(s, h, a);
+          const auto m = all_orders_by_name(s, h, a);
           // first-order coefficients predicted by the code of (8)/(11): (a_mod - alpha)/h, (b_mod - 1)/h
           const auto c = modified_coefficients(s, a, h);
           const double a1 = (c.a - a) / h, b1 = (c.b - 1) / h;
           const double dev = run_or_missing(
               s + " alpha=" + show(a) + " h=" + show(h) + " (all orders)",
               [&] {
-                const auto tr = find_oscillator_scheme(s).run({a, q0, p0, T}, h);
+                const auto tr = osc.run(scene(a), s, h, Path::fast, 1);
                 return all_orders_deviation(m, tr.t, tr.q);
               },
               [] { return std::nan(""); });

@@ -21,8 +21,7 @@
 #include "geomint/error.hpp"
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/io.hpp"
-#include "geomint/oscillator_schemes.hpp"
-#include "geomint/schemes/conformal_strang.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/simd.hpp"
 #include "geomint/timing.hpp"
 
@@ -224,20 +223,20 @@ int main(int argc, char** argv) {
         do_not_optimize(e.q[M / 2]);
       });
     };
-    osc(schemes::La{});
-    osc(schemes::Contact{});
-    osc(schemes::LaPrinted{});
-    osc(schemes::LaMidpoint{});
-    osc(schemes::ContactSymmetric{});
-    osc(schemes::Leapfrog{});
-    osc(schemes::ConformalStrang{});
+    osc(systems::Oscillator::La{});
+    osc(systems::Oscillator::Contact{});
+    osc(systems::Oscillator::LaPrinted{});
+    osc(systems::Oscillator::LaMidpoint{});
+    osc(systems::Oscillator::ContactSymmetric{});
+    osc(systems::Oscillator::Leapfrog{});
+    osc(systems::Oscillator::ConformalStrang{});
     // the floors, checked against the library's bits too
     const std::size_t Mc = M - M % 48;
     {
       OscEnsemble a(M), b(M);
       init(a);
       init(b);
-      step_ensemble<schemes::Contact>(a, 100, h, alpha, 1, Simd::scalar);
+      step_ensemble<systems::Oscillator::Contact>(a, 100, h, alpha, 1, Simd::scalar);
       run_floor<FloorContact>(b.q.data(), b.p.data(), b.z.data(), M, 100L, h, alpha);
       // the contact floor steps whole groups of 6 vectors: the first Mc trajectories (48 | Mc, so any width)
       const auto head = [&](const std::vector<double>& v) { return std::vector<double>(v.begin(), v.begin() + Mc); };
@@ -245,7 +244,7 @@ int main(int argc, char** argv) {
         std::printf("  note: the contact floor's bits differ from the library's\n");
       init(a);
       init(b);
-      step_ensemble<schemes::La>(a, 100, h, alpha, 1, Simd::scalar);
+      step_ensemble<systems::Oscillator::La>(a, 100, h, alpha, 1, Simd::scalar);
       run_floor<FloorLa>(b.q.data(), b.p.data(), b.z.data(), M, 100L, h, alpha);
       if (a.q != b.q || a.p != b.p) std::printf("  note: the la floor's bits differ from the library's\n");
     }
@@ -263,15 +262,15 @@ int main(int argc, char** argv) {
     });
 
     // ---- Foucault: one cell (alpha = 1e-4, h = 0.01) as anomaly_foucault runs it, T = 360 s (36000 steps)
-    FoucaultScene base;
+    systems::FoucaultPendulum base;
     base.T = 360;
     const double hf = 0.01, af = 1e-4, thr = 0.1 * foucault_pi / 180;
     const long Nf = step_count(hf, base.T);
     const long R = 256;  // runs per ensemble call: two batches of 128 (one per thread with two threads)
     for (const char* sn : {"la-nh", "contact-nh"})
-      for (auto con : {FoucaultConstraint::paper, FoucaultConstraint::rotation}) {
-        const auto cases = anomaly_cases({hf}, {af}, {sn}, {con}, R);
-        const std::string n = std::string(sn) + " " + to_string(con);
+      for (const char* sys : {systems::Foucault::name, systems::FoucaultRotation::name}) {
+        const auto cases = anomaly_cases({hf}, {af}, {sn}, {sys}, R);
+        const std::string n = std::string(sn) + " " + systems::foucault_discretization(sys);
         // bit-identity first
         const auto ref = run_anomaly_ensemble(base, {cases.begin(), cases.begin() + 8}, thr, 1, {}, Simd::scalar);
         for (Simd w : widths) {
@@ -300,7 +299,7 @@ int main(int argc, char** argv) {
         });
       }
     {
-      FoucaultScene sc = base;
+      systems::FoucaultPendulum sc = base;
       sc.alpha = af;
       const FoucaultParams<double> fp(sc);
       const std::size_t Mf = 128;

@@ -12,7 +12,6 @@
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/stepper.hpp"
-#include "geomint/integrate.hpp"
 #include "geomint/io.hpp"
 #include "geomint/systems/foucault.hpp"
 #include "geomint/systems/knife_edge.hpp"
@@ -63,15 +62,16 @@ int main(int argc, char** argv) {
     const double ho = 0.01;
     std::apply([&](auto... fp) {
       (([&] {
-         using FP = decltype(fp);
-         using C = typename FP::closed;
-         using G = typename FP::generic;
+         using C = decltype(fp);
+         using G = typename C::solves;
          const std::string scheme = generic::scheme_name<G>();
-         Pair p{"oscillator", scheme, C::name, "closed oscillator " + std::string(C::name), "generic oscillator " + scheme};
+         // the closed form under the paper's name where it has one (leapfrog, contact-sym), else the scheme's
+         const std::string closed = *generic::alias_of<C>() ? generic::alias_of<C>() : scheme;
+         Pair p{"oscillator", scheme, closed, "closed oscillator " + closed, "generic oscillator " + scheme};
          table.add("oscillator", p.closed_case, double(N), [=] {
-           OscState<double> s{osc.q0, osc.p0, 0};
-           integrate_const<C>(s, ho, N, osc.alpha, [](long, const OscState<double>&) {});
-           do_not_optimize(s.q);
+           double q = 0;
+           osc.run_fast<C>(ho, N, [&](const auto& v) { q = v.q(0); });
+           do_not_optimize(q);
          });
          table.add("oscillator", p.generic_case, double(N), [=] { run_generic<systems::Oscillator, G>(osc, ho, N); });
          p.newton = run_generic<systems::Oscillator, G>(osc, ho, N);
@@ -83,22 +83,21 @@ int main(int argc, char** argv) {
     // The Foucault pendulum, both constraints: (15), (18) and the remedy, 1000 s at h = 0.1.
     const double hf = 0.1;
     const long Nf = 10000;
-    auto foucault = [&](auto sys, FoucaultConstraint constraint) {
+    auto foucault = [&](auto sys) {
       using Sys = decltype(sys);
       std::apply([&](auto... fp) {
         (([&] {
-           using FP = decltype(fp);
-           using C = typename FP::closed;
-           using G = typename FP::generic;
+           using C = decltype(fp);
+           using G = typename C::solves;
            const std::string scheme = generic::scheme_name<G>();
-           Pair p{Sys::name, scheme, C::name, "closed " + std::string(Sys::name) + " " + C::name,
+           Pair p{Sys::name, scheme, generic::alias_of<C>(), "closed " + std::string(Sys::name) + " " + generic::alias_of<C>(),
                   "generic " + std::string(Sys::name) + " " + scheme};
-           const FoucaultParams<double> fp_(sys.scene);
-           const Vec2<double> q0(sys.scene.x0, sys.scene.y0), v0(sys.scene.vx0, sys.scene.vy0);
+           const FoucaultParams<double> fp_(sys);
+           const Vec2<double> q0(sys.x0, sys.y0), v0(sys.vx0, sys.vy0);
            table.add(Sys::name, p.closed_case, double(Nf), [=] {
              double last = 0;
-             integrate_foucault<C>(fp_, q0, v0, hf, Nf, FoucaultStart::legendre,
-                                   [&](const FoucaultStep<double>& st) { last = st.qn(0); }, constraint);
+             systems::run_closed_form<C>(sys, fp_, q0, v0, hf, Nf, FoucaultStart::legendre,
+                                         [&](const FoucaultStep<double>& st) { last = st.qn(0); });
              do_not_optimize(last);
            });
            table.add(Sys::name, p.generic_case, double(Nf), [=] { run_generic<Sys, G>(sys, hf, Nf); });
@@ -108,18 +107,18 @@ int main(int argc, char** argv) {
          ...);
       }, typename Sys::fast_paths{});
     };
-    foucault(systems::Foucault{}, FoucaultConstraint::paper);
-    foucault(systems::FoucaultRotation{}, FoucaultConstraint::rotation);
+    foucault(systems::Foucault{});
+    foucault(systems::FoucaultRotation{});
 
     // The nonholonomic particle (h = 0.05).
     {
       const systems::NonholonomicParticle sys;
       const double hp = 0.05;
       const long Np = 20000;
-      Pair p{"particle", "la", schemes::ParticleLaNh::name, "closed particle particle-la-nh", "generic particle la"};
+      Pair p{"particle", "la", systems::NonholonomicParticle::La::name, "closed particle particle-la-nh", "generic particle la"};
       table.add("particle", p.closed_case, double(Np), [=] {
         Vec<double, 3> q = sys.initial_position<double>(), v = generic::consistent_velocity(sys, 0.0, q, sys.initial_velocity<double>());
-        for (long j = 0; j < Np; ++j) schemes::ParticleLaNh::step(sys, q, v, hp);
+        for (long j = 0; j < Np; ++j) systems::NonholonomicParticle::La::step(sys, q, v, hp);
         do_not_optimize(q(0));
       });
       table.add("particle", p.generic_case, double(Np), [=] { run_generic<systems::NonholonomicParticle, generic::LaLeft>(sys, hp, Np); });

@@ -17,12 +17,11 @@
 #include "bench_table.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
-#include "geomint/foucault.hpp"
+#include "geomint/systems/foucault.hpp"
 #include "geomint/gsl_evolve.hpp"
 #include "geomint/fp_env.hpp"
-#include "geomint/integrate.hpp"
 #include "geomint/io.hpp"
-#include "geomint/oscillator_schemes.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/timing.hpp"
 
 using namespace geomint;
@@ -31,12 +30,13 @@ using State2 = std::array<double, 2>;
 
 namespace {
 
+// N steps of an oscillator closed form through its system's run loop (what the registry's fast path runs).
 template <class S>
 double run_library(long N, double h, double alpha) {
-  OscState<double> s{-0.25, 0.75, 0};
-  integrate_const<S>(s, h, N, alpha, [](long, const OscState<double>&) {});
-  do_not_optimize(s.q);
-  return s.q;
+  double q = 0;
+  systems::Oscillator{alpha, -0.25, 0.75}.run_fast<S>(h, N, [&](const auto& v) { q = v.q(0); });
+  do_not_optimize(q);
+  return q;
 }
 
 int gsl_rhs(double, const double y[], double f[], void* params) {
@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
     bench::Table table(reps, 0.05);
     auto add = [&](const std::string& g, const std::string& n, double units, auto fn) { table.add(g, n, units, fn); };
 
-    add("oscillator", "geomint la", N, [&] { run_library<schemes::La>(N, h, alpha); });
+    add("oscillator", "geomint la", N, [&] { run_library<systems::Oscillator::La>(N, h, alpha); });
     add("oscillator", "bare la", N, [&] {
       double q = -0.25, p = 0.75;
       const double c = 1 / (1 + h * alpha);
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
       }
       do_not_optimize(q);
     });
-    add("oscillator", "geomint contact", N, [&] { run_library<schemes::Contact>(N, h, alpha); });
+    add("oscillator", "geomint contact", N, [&] { run_library<systems::Oscillator::Contact>(N, h, alpha); });
     add("oscillator", "bare contact", N, [&] {
       double q = -0.25, p = 0.75, z = 0;
       const double inv_h = 1 / h;
@@ -88,10 +88,10 @@ int main(int argc, char** argv) {
       do_not_optimize(q);
       do_not_optimize(z);
     });
-    add("oscillator", "geomint la-printed", N, [&] { run_library<schemes::LaPrinted>(N, h, alpha); });
-    add("oscillator", "geomint la-midpoint", N, [&] { run_library<schemes::LaMidpoint>(N, h, alpha); });
-    add("oscillator", "geomint contact-sym", N, [&] { run_library<schemes::ContactSymmetric>(N, h, alpha); });
-    add("oscillator", "geomint leapfrog", N, [&] { run_library<schemes::Leapfrog>(N, h, alpha); });
+    add("oscillator", "geomint la-printed", N, [&] { run_library<systems::Oscillator::LaPrinted>(N, h, alpha); });
+    add("oscillator", "geomint la-midpoint", N, [&] { run_library<systems::Oscillator::LaMidpoint>(N, h, alpha); });
+    add("oscillator", "geomint contact-sym", N, [&] { run_library<systems::Oscillator::ContactSymmetric>(N, h, alpha); });
+    add("oscillator", "geomint leapfrog", N, [&] { run_library<systems::Oscillator::Leapfrog>(N, h, alpha); });
 
     auto sys = [alpha](const State2& x, State2& dx, double) {
       dx[0] = x[1];
@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
     // Foucault pendulum (15): the library loop, a bare closed-form loop, and the literal 3x3 system
     // solved by Eigen's PartialPivLU (what a generic implementation would do).
     {
-      FoucaultScene sc;
+      systems::Foucault sc;
       sc.alpha = 1e-4;
       const FoucaultParams<double> fp(sc);
       const double hp = 0.1;
@@ -153,11 +153,11 @@ int main(int argc, char** argv) {
       const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
       add("pendulum", "geomint la-nh", Np, [&] {
         double acc = 0;
-        integrate_foucault<schemes::LaNh>(fp, q0, v0, hp, Np, FoucaultStart::legendre,
-                                          [&](const FoucaultStep<double>& st) { acc += st.lambda1; });
+        systems::run_closed_form<systems::Foucault::La>(sc, fp, q0, v0, hp, Np, FoucaultStart::legendre,
+                                                        [&](const FoucaultStep<double>& st) { acc += st.lambda1; });
         do_not_optimize(acc);
       });
-      const Vec2<double> qm0 = schemes::LaNh::previous_point(fp, q0, v0, hp, FoucaultStart::legendre);
+      const Vec2<double> qm0 = systems::Foucault::La::previous_point(fp, q0, v0, hp, FoucaultStart::legendre);
       add("pendulum", "bare la-nh closed form", Np, [&] {
         const double c = 1 / hp + fp.alpha, ic = 1 / c, ih = 1 / hp, w2 = fp.w2, s = fp.s;
         double xm = qm0(0), ym = qm0(1), x = q0(0), y = q0(1), acc = 0;
@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
         Vec2<double> qm = qm0, q = q0, qn;
         double acc = 0;
         for (long j = 0; j < Np; ++j) {
-          const auto ls = schemes::LaNh::system(fp, qm, q, hp);
+          const auto ls = systems::Foucault::La::system(fp, qm, q, hp);
           const Eigen::Vector3d sol = Eigen::PartialPivLU<Eigen::Matrix3d>(ls.A).solve(ls.b);
           qn = sol.head<2>();
           acc += sol(2);
@@ -191,15 +191,15 @@ int main(int argc, char** argv) {
     // Subnormals: alpha = 1 over t in [0, 1e5] decays below DBL_MIN at t ~ 1400 and stays subnormal.
     const double hs = 0.01;
     const long Ns = static_cast<long>(1e5 / hs);
-    add("subnormal", "contact, plain", Ns, [&] { run_library<schemes::Contact>(Ns, hs, 1.0); });
+    add("subnormal", "contact, plain", Ns, [&] { run_library<systems::Oscillator::Contact>(Ns, hs, 1.0); });
     add("subnormal", "contact, flush-to-zero", Ns, [&] {
       ScopedFlushToZero ftz;
-      run_library<schemes::Contact>(Ns, hs, 1.0);
+      run_library<systems::Oscillator::Contact>(Ns, hs, 1.0);
     });
-    add("subnormal", "la, plain", Ns, [&] { run_library<schemes::La>(Ns, hs, 1.0); });
+    add("subnormal", "la, plain", Ns, [&] { run_library<systems::Oscillator::La>(Ns, hs, 1.0); });
     add("subnormal", "la, flush-to-zero", Ns, [&] {
       ScopedFlushToZero ftz;
-      run_library<schemes::La>(Ns, hs, 1.0);
+      run_library<systems::Oscillator::La>(Ns, hs, 1.0);
     });
 
     std::printf("oscillator alpha = %g, h = %g, %ld steps per run; pendulum h = 0.1, alpha = 1e-4; subnormals alpha = 1, "

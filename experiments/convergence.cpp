@@ -50,42 +50,12 @@ int main(int argc, char** argv) {
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const std::string stem = sys.name + "_convergence";
 
-    // Every (combination, scheme, h) run is an item of the sweep; a rank computes the reference of a combination
-    // when it first needs it.
+    // The study (core/include/geomint/study.hpp): every (combination, scheme, h) run, shared by the ranks under
+    // mpirun; rank 0 writes.
     const Sweep& sweep = Sweep::world();
-    const std::size_t S = schemes.size(), H = hs.size(), n_items = combos.size() * S * H;
-    std::vector<double> cost(n_items);
-    for (std::size_t k = 0; k < n_items; ++k) cost[k] = 1 / hs[k % H];
-    std::string ref_kind_text;
-    const auto errs_all = sweep.map<double>(
-        n_items, cost,
-        [&](std::size_t first, std::size_t last) {
-          std::vector<double> out;
-          std::size_t ref_of = SIZE_MAX;
-          Reference ref;
-          for (std::size_t k = first; k < last; ++k) {
-            const std::size_t c = k / (S * H);
-            const ParamValues& pv = combos[c];
-            if (ref_of != c) {
-              ref = sys.reference(pv, hs.back(), step_count(hs.back(), sys.horizon(pv)), ref_kind, tol);
-              ref_of = c;
-              ref_kind_text = ref.kind;
-            }
-            const std::string& name = schemes[k / H % S];
-            double e;
-            try {
-              e = sys.max_error(pv, name, hs[k % H], path, ref);
-            } catch (const NumericalFailure& f) {
-              std::fprintf(stderr, "convergence: %s (recorded as a missing value)\n", f.what());
-              e = std::nan("");
-            }
-            out.push_back(e);
-          }
-          return out;
-        });
+    const ConvergenceStudy study = convergence_study(sys, combos, schemes, hs, path, ref_kind, tol, sweep);
     if (!sweep.root()) return 0;
-    if (ref_kind_text.empty())  // every item ran on other ranks: name the reference all the same
-      ref_kind_text = sys.reference(combos.front(), hs.front(), 1, ref_kind, tol).kind;
+    const std::size_t S = schemes.size();
     Params params = sysopt.header();
     params.insert(params.end(), {{"h", format_list(hs)}, {"path", to_string(path)}, {"reference", ref_name},
                                  {"tol", format_number(tol)},
@@ -97,10 +67,9 @@ int main(int argc, char** argv) {
     fit_cols.insert(fit_cols.end(), {"fitted_order", "points", "expected_order"});
     TsvWriter tsv(dir / (stem + ".tsv"), "convergence", params, cols);
     TsvWriter fits(dir / (stem + "_fits.tsv"), "convergence", params, fit_cols);
-    std::printf("%s, reference: %s\n", sys.name.c_str(), ref_kind_text.c_str());
+    std::printf("%s, reference: %s\n", sys.name.c_str(), study.reference.c_str());
     for (std::size_t c = 0; c < combos.size(); ++c) {
       const ParamValues& pv = combos[c];
-      const double T = sys.horizon(pv);
       std::vector<std::string> key;
       std::string label;
       for (const auto& sw : swept) {
@@ -108,24 +77,20 @@ int main(int argc, char** argv) {
         label += (label.empty() ? "" : ", ") + sw + " = " + key.back();
       }
       for (std::size_t si = 0; si < S; ++si) {
-        const std::string& name = schemes[si];
-        const std::vector<double> errs(errs_all.begin() + static_cast<long>((c * S + si) * H),
-                                       errs_all.begin() + static_cast<long>((c * S + si + 1) * H));
-        const auto orders = observed_orders(hs, errs);
-        std::vector<std::string> row{sys.name, name};
+        const ConvergenceSeries& se = study.series[c * S + si];
+        std::vector<std::string> row{sys.name, se.scheme};
         row.insert(row.end(), key.begin(), key.end());
         for (std::size_t i = 0; i < hs.size(); ++i) {
           auto r = row;
-          r.insert(r.end(), {format_number(hs[i]), std::to_string(step_count(hs[i], T)), format_number(errs[i]),
-                             format_number(orders[i])});
+          r.insert(r.end(), {format_number(hs[i]), std::to_string(se.steps[i]), format_number(se.err[i]),
+                             format_number(se.local_order[i])});
           tsv.write_row(r);
         }
-        const auto fit = fit_order(hs, errs);
         auto r = row;
-        r.insert(r.end(), {format_number(fit.slope), std::to_string(fit.points), std::to_string(sys.scheme(name).order)});
+        r.insert(r.end(), {format_number(se.fit.slope), std::to_string(se.fit.points), std::to_string(se.expected_order)});
         fits.write_row(r);
-        std::printf("  %-20s %-24s fitted order %6.3f  err(h=%g) = %.3e\n", name.c_str(), label.c_str(), fit.slope,
-                    hs.front(), errs.front());
+        std::printf("  %-20s %-24s fitted order %6.3f  err(h=%g) = %.3e\n    asymptotic range: %s\n", se.scheme.c_str(),
+                    label.c_str(), se.fit.slope, hs.front(), se.err.front(), se.asymptotic.describe().c_str());
       }
     }
     tsv.commit();

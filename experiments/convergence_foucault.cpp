@@ -21,8 +21,10 @@
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
-#include "geomint/foucault.hpp"
+#include "geomint/foucault_diagnostics.hpp"
+#include "geomint/observers.hpp"
 #include "geomint/io.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 
@@ -35,13 +37,11 @@ struct RunErrors {
   std::string status = "ok";
 };
 
-double wrap_pi(double a) { return a - foucault_pi * std::round(a / foucault_pi); }
-
 }  // namespace
 
 int main(int argc, char** argv) {
   return guarded_main("convergence_foucault", [&] {
-    FoucaultScene base;
+    systems::Foucault base;  // the paper's constraint (13) as printed
     double h_max = 0.1, h_min = 0.0015625, tol = 1e-12;
     std::vector<double> alphas{1e-3, 1e-4, 0.1}, horizons{4, 32};
     std::vector<std::string> names{"la-nh", "contact-nh"};
@@ -64,12 +64,12 @@ int main(int argc, char** argv) {
         plan_steps(static_cast<double>(names.size() * alphas.size()) * static_cast<double>(step_count(h, T)),
                    "the sweep (schemes x alpha x T/h)");
     for (double a : alphas) {
-      FoucaultScene sc = base;
+      systems::Foucault sc = base;
       sc.alpha = a;
       sc.validate();
     }
     const FoucaultStart start = parse_foucault_start(start_name);
-    for (const auto& n : names) visit_foucault_scheme(n, [](auto) {});
+    for (const auto& n : names) generic::visit_closed_form<systems::Foucault>(n, [](auto) {});  // (15), (18)
     require(std::isfinite(tol) && tol > 0 && tol <= 1e-6, "tol must be in (0, 1e-6]");
     check_tolerance(tol, "tol");
     const auto dir = prepare_output_dir(cli.out);
@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
     std::printf("%-10s %-7s %-4s %-10s %11s %6s %11s %11s %10s %10s\n", "scheme", "alpha", "T", "h", "err_max", "order",
                 "energy_err", "plane_err", "rate_err", "min_r");
     for (double a : alphas) {
-      FoucaultScene sc = base;
+      systems::Foucault sc = base;
       sc.alpha = a;
       const FoucaultParams<double> p(sc);
       const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
@@ -121,10 +121,10 @@ int main(int argc, char** argv) {
             const long stride = std::lround(h / hr);
             RunErrors e;
             try {
-              visit_foucault_scheme(n, [&](auto scheme) {
+              generic::visit_closed_form<systems::Foucault>(n, [&](auto scheme) {
                 using Scheme = decltype(scheme);
-                FoucaultDiagnostics<double> diag(p, h, N, N, q0, v0);
-                integrate_foucault<Scheme>(p, q0, v0, h, N, start, [&](const FoucaultStep<double>& st) {
+                FoucaultDiagnostics<systems::Foucault, double> diag(p, h, N, N, q0, v0);
+                systems::run_closed_form<Scheme>(sc, p, q0, v0, h, N, start, [&](const FoucaultStep<double>& st) {
                   diag(st);
                   const auto& rn = ref[static_cast<size_t>((st.j + 1) * stride)];
                   e.err_max = std::max(e.err_max, std::hypot(st.qn(0) - rn[0], st.qn(1) - rn[1]));
@@ -134,8 +134,9 @@ int main(int argc, char** argv) {
                   const auto& rj = ref[static_cast<size_t>(st.j * stride)];
                   const double rr = std::hypot(rj[0], rj[1]);
                   if (rr >= q0.norm() * std::exp(-a * st.t / 2) / 2)
-                    e.plane_err = std::max(e.plane_err, std::abs(wrap_pi(std::atan2(st.q(1), st.q(0)) -
-                                                                         std::atan2(rj[1], rj[0]))));
+                    e.plane_err = std::max(e.plane_err, std::abs(nearest_branch(std::atan2(st.q(1), st.q(0)) -
+                                                                                    std::atan2(rj[1], rj[0]),
+                                                                                0.0, foucault_pi)));
                 });
                 const auto S = diag.summary();
                 e.min_r = S.min_r;
@@ -155,7 +156,7 @@ int main(int argc, char** argv) {
                         e.err_max, order, e.energy_err, e.plane_err, e.rate_rel_err, e.min_r);
           }
           const auto fit = fit_order(hs, errs);
-          fits.row(n, a, T, fit.slope, fit.points, visit_foucault_scheme(n, [](auto sch) { return decltype(sch)::order; }));
+          fits.row(n, a, T, fit.slope, fit.points, find_system(systems::Foucault::name).scheme(n).order);
         }
       }
     }

@@ -11,9 +11,10 @@
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/record.hpp"
-#include "geomint/oscillator_registry.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
+#include "geomint/sweep.hpp"
 
 using namespace geomint;
 
@@ -21,14 +22,16 @@ int main(int argc, char** argv) {
   return guarded_main("convergence_oscillator", [&] {
     double h_max = 0.2, h_min = 0.003, T = 50, q0 = -0.25, p0 = 0.75;
     std::vector<double> alphas{0.01, 0.1, 1};
-    std::vector<std::string> names = oscillator_defaults("convergence");
+    // the paper's schemes (under the paper's names: leapfrog is la-trapezoid's closed form, contact-sym
+    // contact-trapezoid's), (7) as printed, and the second-order comparators
+    std::vector<std::string> names{"la", "contact", "la-printed", "leapfrog", "la-midpoint", "contact-sym"};
     Cli cli("convergence_oscillator", "error against h of the oscillator schemes, with fitted orders");
     cli.options.add_options()("h-max", po::value(&h_max)->default_value(h_max), "largest step")(
         "h-min", po::value(&h_min)->default_value(h_min), "halve until h <= h-min")(
         "T", po::value(&T)->default_value(T), "horizon")("q0", po::value(&q0)->default_value(q0), "initial position")(
         "p0", po::value(&p0)->default_value(p0), "initial momentum")(
         "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "0.01 0.1 1"), "damping values")(
-        "schemes", po::value(&names)->multitoken()->default_value(names, join_names(names)),
+        "schemes", po::value(&names)->multitoken()->default_value(names, "la contact la-printed leapfrog la-midpoint contact-sym"),
         "schemes");
     if (!cli.parse(argc, argv)) return 0;
 
@@ -36,11 +39,19 @@ int main(int argc, char** argv) {
     for (double h : hs)
       plan_steps(static_cast<double>(names.size() * alphas.size()) * static_cast<double>(step_count(h, T)),
                  "the sweep (schemes x alpha x T/h)");
-    for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
-    std::vector<const OscillatorSchemeInfo*> schemes;
-    for (const auto& n : names) schemes.push_back(&find_oscillator_scheme(n));
+    const SystemInfo& osc = find_system("oscillator");
+    auto scene = [&](double a) { return ParamValues{{"alpha", a}, {"q0", q0}, {"p0", p0}, {"T", T}}; };
+    for (double a : alphas) osc.validate(scene(a));
+    for (const auto& n : names) osc.scheme(n);  // unknown names fail here
     const auto dir = prepare_output_dir(cli.out);
 
+    // The study (core/include/geomint/study.hpp): the closed forms against the closed-form solution, one parameter
+    // combination per alpha.
+    std::vector<ParamValues> combos;
+    for (double a : alphas) combos.push_back(scene(a));
+    const Sweep& sweep = Sweep::world();  // under mpirun the ranks share the runs; rank 0 writes
+    const ConvergenceStudy study = convergence_study(osc, combos, names, hs, Path::fast, ReferenceKind::exact, 0, sweep);
+    if (!sweep.root()) return 0;
     const Params params{{"h", format_list(hs)}, {"T", format_number(T)}, {"q0", format_number(q0)},
                         {"p0", format_number(p0)}, {"alpha", format_list(alphas)},
                         {"error", "max_j |q_j - q_exact(t_j)|, closed-form solution"}};
@@ -49,23 +60,15 @@ int main(int argc, char** argv) {
     TsvWriter fits(dir / "convergence_oscillator_fits.tsv", "convergence_oscillator", params,
                    {"scheme", "alpha", "fitted_order", "points", "expected_order"});
     std::printf("%-11s %-6s %-10s %12s %7s\n", "scheme", "alpha", "h", "err_max", "order");
-    for (const auto* s : schemes)
-      for (double a : alphas) {
-        const OscillatorScene scene{a, q0, p0, T};
-        std::vector<double> errs;
-        for (double h : hs) {
-          // a failed run is a missing value, not a crash
-          errs.push_back(run_or_missing(
-              s->name + " alpha=" + show(a) + " h=" + show(h), [&] { return s->max_error(scene, h); },
-              [] { return std::nan(""); }));
-        }
-        const auto orders = observed_orders(hs, errs);
+    for (std::size_t si = 0; si < names.size(); ++si)
+      for (std::size_t c = 0; c < alphas.size(); ++c) {
+        const ConvergenceSeries& se = study.series[c * names.size() + si];
+        const double a = alphas[c];
         for (size_t i = 0; i < hs.size(); ++i) {
-          tsv.row(s->name, a, hs[i], step_count(hs[i], T), errs[i], orders[i]);
-          std::printf("%-11s %-6g %-10g %12.4e %7.3f\n", s->name.c_str(), a, hs[i], errs[i], orders[i]);
+          tsv.row(se.scheme, a, hs[i], se.steps[i], se.err[i], se.local_order[i]);
+          std::printf("%-11s %-6g %-10g %12.4e %7.3f\n", se.scheme.c_str(), a, hs[i], se.err[i], se.local_order[i]);
         }
-        const auto fit = fit_order(hs, errs);
-        fits.row(s->name, a, fit.slope, fit.points, s->order);
+        fits.row(se.scheme, a, se.fit.slope, se.fit.points, se.expected_order);
       }
     tsv.commit();
     fits.commit();
@@ -74,11 +77,11 @@ int main(int argc, char** argv) {
     for (double a : alphas) std::printf(" alpha=%-6g", a);
     std::printf("\n");
     const auto ft = plots::read_tsv(dir / "convergence_oscillator_fits.tsv");
-    for (const auto* s : schemes) {
-      std::printf("%-11s", s->name.c_str());
+    for (const auto& name : names) {
+      std::printf("%-11s", name.c_str());
       for (double a : alphas)
         for (size_t r = 0; r < ft.rows.size(); ++r)
-          if (ft.text(r, "scheme") == s->name && ft.number(r, "alpha") == a)
+          if (ft.text(r, "scheme") == name && ft.number(r, "alpha") == a)
             std::printf(" %12.3f", ft.number(r, "fitted_order"));
       std::printf("\n");
     }
@@ -93,10 +96,10 @@ int main(int argc, char** argv) {
       plots::Panel p;
       p.setup = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'h'\nset ylabel 'max error in q'\n"
                 "set key bottom right\nset title 'alpha = " + format_number(a) + "'\n";
-      for (const auto* s : schemes) {
-        auto keep = [&](size_t i) { return t.text(i, "scheme") == s->name && t.number(i, "alpha") == a; };
+      for (const auto& name : names) {
+        auto keep = [&](size_t i) { return t.text(i, "scheme") == name && t.number(i, "alpha") == a; };
         const auto x = t.numbers("h", keep), y = t.numbers("err_max", keep);
-        p.series.push_back({x, y, plots::slope_label(s->name, fit_order(x, y).slope), plots::style_for(s->name, "linespoints")});
+        p.series.push_back({x, y, plots::slope_label(name, fit_order(x, y).slope), plots::style_for(name, "linespoints")});
       }
       fig.panels.push_back(std::move(p));
     }

@@ -15,7 +15,7 @@
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/record.hpp"
-#include "geomint/oscillator_registry.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/plots/figure.hpp"
 
 using namespace geomint;
@@ -25,13 +25,13 @@ int main(int argc, char** argv) {
     double h = 0.1, T = 50, q0 = -0.25, p0 = 0.75, shift = 10;
     int ref_factor = 10;
     std::vector<double> alphas{0.01, 0.1};
-    std::vector<std::string> names = oscillator_defaults("fig1");
+    std::vector<std::string> names{"la", "la-printed", "contact"};  // the paper's Figure 1 (and (7) as printed)
     Cli cli("fig1_oscillator", "Figure 1: damped oscillator, LA vs contact, relative error against leapfrog at h/10");
     cli.options.add_options()("h", po::value(&h)->default_value(h), "step size")(
         "T", po::value(&T)->default_value(T), "horizon")("q0", po::value(&q0)->default_value(q0), "initial position")(
         "p0", po::value(&p0)->default_value(p0), "initial momentum")(
         "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "0.01 0.1"), "damping values")(
-        "schemes", po::value(&names)->multitoken()->default_value(names, join_names(names)), "schemes to compare")(
+        "schemes", po::value(&names)->multitoken()->default_value(names, "la la-printed contact"), "schemes to compare")(
         "ref-factor", po::value(&ref_factor)->default_value(ref_factor), "reference leapfrog runs at h/ref-factor")(
         "shift", po::value(&shift)->default_value(shift), "shift s of the regularized relative error");
     if (!cli.parse(argc, argv)) return 0;
@@ -39,14 +39,14 @@ int main(int argc, char** argv) {
     // Validate everything before writing anything.
     const long N = step_count(h, T);
     require(ref_factor >= 1, "ref-factor must be a positive integer");
-    // The reference run at h/ref-factor is stored (t, q, p) before the table is written.
+    // The reference run at h/ref-factor is stored (every column of a Run) before the table is written.
     check_steps(static_cast<double>(N) * ref_factor, "the reference run (T/h times ref-factor)");
-    check_memory(static_cast<double>(N) * ref_factor * 3 * sizeof(double), "the reference trajectory");
+    check_memory(static_cast<double>(N) * ref_factor * Run::bytes_per_step(1, 0), "the reference trajectory");
     require_finite(shift, "shift");
-    for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
-    std::vector<const OscillatorSchemeInfo*> schemes;
-    for (const auto& n : names) schemes.push_back(&find_oscillator_scheme(n));
-    const auto& ref = find_oscillator_scheme("leapfrog");
+    const SystemInfo& osc = find_system("oscillator");
+    auto scene = [&](double a) { return ParamValues{{"alpha", a}, {"q0", q0}, {"p0", p0}, {"T", T}}; };
+    for (double a : alphas) osc.validate(scene(a));
+    for (const auto& n : names) osc.scheme(n);  // unknown names fail here
     const auto dir = prepare_output_dir(cli.out);
 
     const Params params{{"h", format_number(h)},       {"T", format_number(T)},
@@ -59,22 +59,23 @@ int main(int argc, char** argv) {
                       {"alpha", "scheme", "max_rel_err", "max_abs_err_ref", "max_abs_err_exact"});
     std::printf("%-8s %-12s %14s %14s %14s\n", "alpha", "scheme", "max_rel_err", "max|q-q_ref|", "max|q-q_exact|");
     for (double a : alphas) {
-      const OscillatorScene scene{a, q0, p0, T};
-      const auto r = ref.run(scene, h / ref_factor);
+      const ParamValues pv = scene(a);
+      // the reference: the implicit leapfrog (the paper's; la-trapezoid's closed form) at h/ref-factor
+      const Run r = osc.run(pv, "leapfrog", h / ref_factor, Path::fast, 1);
+      const Reference exact = osc.reference(pv, h, N, ReferenceKind::exact, 0);
       auto q_ref = [&](long j) { return r.q[static_cast<size_t>(j * ref_factor)]; };
+      auto q_exact = [&](long j) { return exact.q[static_cast<size_t>(j)]; };
       for (long j = 0; j <= N; ++j)
         tsv.row(a, "leapfrog-ref", r.t[static_cast<size_t>(j * ref_factor)], q_ref(j),
-                r.p[static_cast<size_t>(j * ref_factor)], q_ref(j), 0.0,
-                std::abs(q_ref(j) - oscillator_exact(a, q0, p0, static_cast<double>(j) * h).q));
-      for (const auto* s : schemes) {
-        using Run = decltype(s->run(scene, h));
+                r.p[static_cast<size_t>(j * ref_factor)], q_ref(j), 0.0, std::abs(q_ref(j) - q_exact(j)));
+      for (const auto& name : names) {
         // A run that fails is missing (no trajectory rows, nan in the summary); the sweep goes on.
         const auto run = run_or_missing(
-            s->name + " alpha=" + show(a) + " h=" + show(h), [&] { return std::optional<Run>(s->run(scene, h)); },
+            name + " alpha=" + show(a) + " h=" + show(h), [&] { return std::optional<Run>(osc.run(pv, name, h, Path::fast, 1)); },
             [] { return std::optional<Run>(); });
         if (!run) {
           const double nan = std::nan("");
-          summary.row(a, s->name, nan, nan, nan);
+          summary.row(a, name, nan, nan, nan);
           continue;
         }
         const auto& tr = *run;
@@ -82,14 +83,14 @@ int main(int argc, char** argv) {
         for (long j = 0; j <= N; ++j) {
           const auto k = static_cast<size_t>(j);
           const double rel = std::abs((shift + tr.q[k]) / (shift + q_ref(j)) - 1);
-          const double ex = std::abs(tr.q[k] - oscillator_exact(a, q0, p0, tr.t[k]).q);
+          const double ex = std::abs(tr.q[k] - q_exact(j));
           max_rel = std::max(max_rel, rel);
           max_abs = std::max(max_abs, std::abs(tr.q[k] - q_ref(j)));
           max_exact = std::max(max_exact, ex);
-          tsv.row(a, s->name, tr.t[k], tr.q[k], tr.p[k], q_ref(j), rel, ex);
+          tsv.row(a, name, tr.t[k], tr.q[k], tr.p[k], q_ref(j), rel, ex);
         }
-        summary.row(a, s->name, max_rel, max_abs, max_exact);
-        std::printf("%-8g %-12s %14.4e %14.4e %14.4e\n", a, s->name.c_str(), max_rel, max_abs, max_exact);
+        summary.row(a, name, max_rel, max_abs, max_exact);
+        std::printf("%-8g %-12s %14.4e %14.4e %14.4e\n", a, name.c_str(), max_rel, max_abs, max_exact);
       }
     }
     tsv.commit();

@@ -19,7 +19,8 @@
 
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
-#include "geomint/foucault.hpp"
+#include "geomint/foucault_diagnostics.hpp"
+#include "geomint/observers.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 
@@ -40,7 +41,7 @@ std::string trajectory_style(const std::string& scheme) {
 
 int main(int argc, char** argv) {
   return guarded_main("fig2_foucault", [&] {
-    FoucaultScene base;
+    systems::FoucaultPendulum base;  // the scene: the systems' parameters
     std::vector<double> hs{0.1, 0.005}, alphas{1e-3, 1e-4};
     std::vector<std::string> names{"la-nh", "contact-nh"};
     std::string start_name = "legendre", constraint_name = "paper";
@@ -52,7 +53,8 @@ int main(int argc, char** argv) {
         "T", po::value(&base.T)->default_value(base.T), "horizon, s")(
         "start", po::value(&start_name)->default_value(start_name), "starting procedure: legendre or taylor")(
         "constraint", po::value(&constraint_name)->default_value(constraint_name),
-        "discretization of (13): paper (third row of (15)/(18)) or rotation (the remedy)")(
+        "discretization of (13): paper (system foucault: the third row of (15)/(18)) or rotation (system "
+        "foucault-rotation: the remedy)")(
         "schemes", po::value(&names)->multitoken()->default_value(names, "la-nh contact-nh"), "schemes")(
         "sample-dt", po::value(&sample_dt)->default_value(sample_dt),
         "keep a sample every sample-dt seconds (plus every turning point)")(
@@ -71,10 +73,11 @@ int main(int argc, char** argv) {
     validate_foucault_sweep(base, hs, alphas);
     base.validate();
     const FoucaultStart start = parse_foucault_start(start_name);
-    const FoucaultConstraint constraint = parse_foucault_constraint(constraint_name);
-    const std::string stem0 =
-        constraint == FoucaultConstraint::paper ? "fig2_foucault" : "fig2_foucault_" + constraint_name;
-    for (const auto& n : names) visit_foucault_scheme(n, [](auto) {});
+    const std::string system = systems::foucault_system_name(constraint_name);
+    const bool paper = system == systems::Foucault::name;
+    const std::string stem0 = paper ? "fig2_foucault" : "fig2_foucault_" + constraint_name;
+    for (const auto& n : names)  // a scheme with a closed form on the system (la, contact; la-nh, contact-nh)
+      systems::visit_foucault_system(system, [&](auto sys) { generic::visit_closed_form<decltype(sys)>(n, [](auto) {}); });
     require_positive(sample_dt, "sample-dt");
     const auto dir = prepare_output_dir(cli.out);
 
@@ -93,7 +96,7 @@ int main(int argc, char** argv) {
                           {"energy", "chord energy at t_j + h/2: m/2|(q_{j+1}-q_j)/h|^2 + m w2/2|(q_j+q_{j+1})/2|^2"},
                           {"angle", "plane angle atan2(y,x) at turning points (local maxima of |q|), unwrapped mod pi"},
                           {"reference", "closed form: q = R(-s t) rho, rho'' = -(w2-s^2) rho - alpha rho'"}};
-      for (auto& kv : foucault_scene_params(base)) params.push_back(kv);
+      for (auto& kv : base.header_params()) params.push_back(kv);
       TsvWriter tsv(dir / (stem + ".tsv"), "fig2_foucault", params,
                     {"scheme", "alpha", "h", "kind", "j", "t", "x", "y", "t_energy", "energy", "lambda",
                      "residual", "angle", "jump"});
@@ -108,7 +111,7 @@ int main(int argc, char** argv) {
                   "Eex(T)/E0", "max|Phid|", "min r", "closest pass @t", "max jump deg @t", "max E loss @t",
                   "rate/-s");
       for (double a : alphas) {
-        FoucaultScene sc = base;
+        systems::FoucaultPendulum sc = base;
         sc.alpha = a;
         const FoucaultParams<double> p(sc);
         const Vec2<double> q0(sc.x0, sc.y0);
@@ -129,7 +132,7 @@ int main(int argc, char** argv) {
           FoucaultRun run;
           std::string status = "ok";
           try {
-            run = run_foucault(n, sc, h, start, every, constraint);
+            run = run_foucault(system, n, sc, h, start, every);
           } catch (const NumericalFailure& e) {
             status = e.what();  // a failed run is data: recorded, the sweep goes on
           }
@@ -169,7 +172,7 @@ int main(int argc, char** argv) {
       const auto t = plots::read_tsv(dir / (stem + ".tsv"));
       const std::string where = "h = " + format_number(h) + ", T = " + format_number(base.T) + " s, q_0 = (" +
                                 format_number(base.x0) + ", " + format_number(base.y0) + "), start " + start_name +
-                                (constraint == FoucaultConstraint::paper ? "" : ", constraint " + constraint_name);
+                                (paper ? "" : ", constraint " + constraint_name);
       plots::Figure fig;
       fig.title = "Foucault pendulum, " + where;
       fig.rows = 2;
@@ -221,8 +224,7 @@ int main(int argc, char** argv) {
           for (size_t i = 0; i < ang.size(); ++i) {
             // the exact angle, taken modulo pi nearest the measured one
             const double ex = theta0 - s * tt[i];
-            const double d = ang[i] - ex;
-            ang[i] = (d - foucault_pi * std::round(d / foucault_pi)) * deg;
+            ang[i] = nearest_branch(ang[i] - ex, 0.0, foucault_pi) * deg;
           }
           p.series.push_back({tt, ang, n, plots::style_for(n, "linespoints pt 7 ps 0.3")});
         }

@@ -92,13 +92,6 @@ class SteadyFit {
   std::vector<double> t_, q_;
 };
 
-struct Point {
-  std::string method, family, knob;
-  double periods, value;
-  Fit fit;
-  TimingStats time;
-};
-
 using Rhs = std::function<void(double, const double*, double*)>;
 
 struct OdeRhs {
@@ -138,18 +131,21 @@ Fit rk8pd_run(const Rhs& f, State2 x0, double tol, double T, double omega, bool 
   return measure ? fit.result(steps) : Fit{};
 }
 
-Point measure_point(const std::string& method, const std::string& family, const std::string& knob, double periods,
-                    double value, const std::function<Fit(bool)>& run, const std::function<TimingStats()>& timing) {
-  Point pt{method, family, knob, periods, value, {}, {std::nan(""), std::nan(""), std::nan(""), 0}};
-  try {
-    pt.fit = run(true);
-    pt.time = timing();
-  } catch (const NumericalFailure& f) {
-    std::fprintf(stderr, "long_horizon_forced: %s, %g periods, %s = %g: %s (recorded as missing values)\n", method.c_str(),
-                 periods, knob.c_str(), value, f.what());
+// One point of the study: the steady-state amplitude and phase errors against (C, delta), and the CPU time.
+struct Study {
+  double C, delta;
+  int reps;
+  WorkPoint point(const std::string& method, const std::string& family, const std::string& knob, double periods,
+                  double value, const std::function<Fit(bool)>& run, const std::function<TimingStats()>& timing) const {
+    return measure_point_timed(
+        work_point(method, family, knob, value, WorkPoint::nan, periods), 2,
+        [&] {
+          const Fit f = run(true);
+          return Measured{{std::abs(f.amp - C) / C, std::abs(f.phase - delta)}, f.steps};
+        },
+        timing, reps, method + ", " + show(periods) + " periods, " + knob + " = " + show(value));
   }
-  return pt;
-}
+};
 
 }  // namespace
 
@@ -188,7 +184,8 @@ int main(int argc, char** argv) {
     const double k = 1 - omega * omega, C = beta / std::sqrt(k * k + alpha * alpha * omega * omega),
                  delta = std::atan2(alpha * omega, k);
 
-    std::vector<Point> pts;
+    std::vector<WorkPoint> pts;
+    const Study study{C, delta, reps};
     for (double P : periods) {
       std::fprintf(stderr, "long_horizon_forced: %g periods ...\n", P);
       const ParamValues pv = values_for(P);
@@ -212,11 +209,8 @@ int main(int argc, char** argv) {
             for (std::size_t i = 0; i < r.t.size(); ++i) fit.point(r.t[i], r.q[i]);
             return fit.result(r.steps);
           };
-          auto timing = [&, name, h] {
-            const double s = sys.seconds_per_run(pv, name, h, Path::fast, reps);
-            return TimingStats{s, s, s, reps};
-          };
-          pts.push_back(measure_point(name, "geometric", "m", P, m, run, timing));
+          auto timing = [&, name, h] { return sys.time_run(pv, name, h, Path::fast, reps); };
+          pts.push_back(study.point(name, "geometric", "m", P, m, run, timing));
         }
         auto rk4 = [&, h, N](bool measure) {
           SteadyFit fit(omega, T / 2);
@@ -231,7 +225,7 @@ int main(int argc, char** argv) {
           do_not_optimize(x[0]);
           return measure ? fit.result(N) : Fit{};
         };
-        pts.push_back(measure_point("odeint-rk4", "rk", "m", P, m, rk4,
+        pts.push_back(study.point("odeint-rk4", "rk", "m", P, m, rk4,
                                     [&] { return time_per_call([&] { do_not_optimize(rk4(false).steps); }, reps); }));
       }
       for (double tol : tols) {
@@ -240,11 +234,11 @@ int main(int argc, char** argv) {
         };
         auto bs = [&, tol, T](bool m) { return controlled_run(odeint::bulirsch_stoer<State2>(tol, tol), f, x0, T, omega, m); };
         auto r8 = [&, tol, T](bool m) { return rk8pd_run(f, x0, tol, T, omega, m); };
-        pts.push_back(measure_point("odeint-dopri5", "adaptive", "tol", P, tol, dopri,
+        pts.push_back(study.point("odeint-dopri5", "adaptive", "tol", P, tol, dopri,
                                     [&] { return time_per_call([&] { do_not_optimize(dopri(false).steps); }, reps); }));
-        pts.push_back(measure_point("odeint-bulirsch-stoer", "adaptive", "tol", P, tol, bs,
+        pts.push_back(study.point("odeint-bulirsch-stoer", "adaptive", "tol", P, tol, bs,
                                     [&] { return time_per_call([&] { do_not_optimize(bs(false).steps); }, reps); }));
-        pts.push_back(measure_point("gsl-rk8pd", "adaptive", "tol", P, tol, r8,
+        pts.push_back(study.point("gsl-rk8pd", "adaptive", "tol", P, tol, r8,
                                     [&] { return time_per_call([&] { do_not_optimize(r8(false).steps); }, reps); }));
       }
     }
@@ -260,20 +254,21 @@ int main(int argc, char** argv) {
                    {"method", "family", "alpha", "periods", "knob", "value", "steps", "amp_err", "phase_err"});
     TsvWriter tim(dir / "long_horizon_forced_timings.tsv", "long_horizon_forced", params,
                   {"method", "family", "alpha", "periods", "knob", "value", "seconds_median", "reps"});
-    for (const auto& p : pts) {
-      data.row(p.method, p.family, alpha, p.periods, p.knob, p.value, p.fit.steps, std::abs(p.fit.amp - C) / C,
-               std::abs(p.fit.phase - delta));
-      tim.row(p.method, p.family, alpha, p.periods, p.knob, p.value, p.time.median, p.time.reps);
+    for (auto& p : pts) {
+      p.group = alpha;  // one damping: the summary's group
+      data.row(p.method, p.family, alpha, p.horizon, p.knob, p.value, p.steps, p.errors[0], p.errors[1]);
+      tim.row(p.method, p.family, alpha, p.horizon, p.knob, p.value, p.time.median, p.time.reps);
     }
     data.commit();
     tim.commit();
 
+    const std::vector<long_horizon::Measure> measures{{"amp_err", "steady-state amplitude error |C_fit - C|/C", 1e-3},
+                                                      {"phase_err", "steady-state phase error (rad)", 1e-3}};
+    long_horizon::summarise(pts, measures, "alpha", "periods", dir / "long_horizon_forced_summary.tsv",
+                            "long_horizon_forced", params);
     const auto d = plots::read_tsv(dir / "long_horizon_forced.tsv");
     const auto tt = plots::read_tsv(dir / "long_horizon_forced_timings.tsv");
     const long_horizon::Table table{d, tt, "alpha", "periods"};
-    const std::vector<long_horizon::Measure> measures{{"amp_err", "steady-state amplitude error |C_fit - C|/C", 1e-3},
-                                                      {"phase_err", "steady-state phase error (rad)", 1e-3}};
-    long_horizon::summarise(table, measures, dir / "long_horizon_forced_summary.tsv", "long_horizon_forced", params);
     long_horizon::draw(table, measures, format_number(periods.back()),
                        "Forced oscillator over " + format_number(periods.back()) + " forcing periods: steady-state error against CPU time (median)",
                        dir / "long_horizon_forced");

@@ -34,12 +34,14 @@
 
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
-#include "geomint/foucault.hpp"
+#include "geomint/observers.hpp"
+#include "geomint/systems/foucault.hpp"
 #include "geomint/gsl_evolve.hpp"
 #include "geomint/long_horizon.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/timing.hpp"
+#include "geomint/work_precision.hpp"
 #include "long_horizon_table.hpp"
 
 using namespace geomint;
@@ -62,7 +64,7 @@ class Probe {
     const double r = q.norm();
     const double scale = r * v.norm() + p_.s * r * r;
     if (scale > 0) cmax_ = std::max(cmax_, std::abs(foucault_constraint(p_, q, v)) / scale);
-    if (have_ >= 2 && r_m_ > r_mm_ && r_m_ >= r) turn(t_m_, q_m_, v_m_);
+    if (have_ >= 2 && is_turning_point(false, r_mm_, r_m_, r)) turn(t_m_, q_m_, v_m_);
     r_mm_ = r_m_;
     r_m_ = r;
     t_m_ = t;
@@ -89,10 +91,7 @@ class Probe {
   void turn(double t, const Vec2<double>& q, const Vec2<double>& v) {
     const double r2 = q.squaredNorm(), qv = q.dot(v);
     double a = std::atan2(q(1), q(0));
-    if (!th_.empty()) {  // the plane is a line: its angle is defined modulo pi; take the branch nearest the last
-      const double prev = th_.back();
-      a += foucault_pi * std::round((prev - a) / foucault_pi);
-    }
+    if (!th_.empty()) a = line_angle(q(0), q(1), th_.back());
     ts_.push_back(t);
     th_.push_back(a);
     lq_.push_back(std::log(b_ * r2 + p_.alpha * qv + qv * qv / r2));
@@ -108,39 +107,40 @@ class Probe {
   std::vector<std::array<double, 2>> drift_;
 };
 
+// A point of the study, and what its measured run saw besides the errors: the turning points' count and the
+// drift of (13) at them.
 struct Point {
-  std::string method, family, knob;
-  double T, value;
+  WorkPoint w;
   Structure s;
-  TimingStats time;
 };
 
-template <class Scheme>
-Structure scheme_run(const FoucaultScene& sc, FoucaultConstraint con, double h, long N, bool measure) {
+// The closed form Scheme on system Sys (its constraint row).
+template <class Sys, class Scheme>
+Structure scheme_run(const Sys& sc, double h, long N, bool measure) {
   const FoucaultParams<double> p(sc);
   const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
   if (!measure) {
     double acc = 0;
-    integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) { acc += st.qn(0); }, con);
+    systems::run_closed_form<Scheme>(sc, p, q0, v0, h, N, FoucaultStart::legendre,
+                                     [&](const FoucaultStep<double>& st) { acc += st.qn(0); });
     do_not_optimize(acc);
     return {};
   }
   Probe probe(p);
   double disc = 0;
-  integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
-    const bool rot = st.constraint == FoucaultConstraint::rotation;
-    const double phid = rot ? foucault_line<double>(st.phin).n.dot(st.qn) : discrete_constraint(p, st.q, st.qn, h);
-    const double scale = rot ? st.q.norm() + st.qn.norm() : discrete_constraint_scale(st.q, st.qn, h);
+  systems::run_closed_form<Scheme>(sc, p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
+    const double phid = Sys::imposed_constraint(p, st, h);
+    const double scale = Sys::imposed_constraint_scale(st, h);
     disc = std::max(disc, scale > 0 ? std::abs(phid) / scale : std::abs(phid));
     probe.point(st.t, st.q, (st.qn - st.qm) / (2 * h));
-  }, con);
+  });
   Structure s = probe.result(N);
   s.discrete = disc;
   return s;
 }
 
 // Odeint's rk4 with a fixed step on the multiplier ODE.
-Structure rk4_run(const FoucaultScene& sc, double h, long N, bool measure) {
+Structure rk4_run(const systems::FoucaultPendulum& sc, double h, long N, bool measure) {
   const FoucaultParams<double> p(sc);
   const FoucaultMultiplierOde f(p);
   const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
@@ -159,7 +159,7 @@ Structure rk4_run(const FoucaultScene& sc, double h, long N, bool measure) {
 
 // An Odeint controlled stepper driven by try_step to T (the last step shortened to land on T).
 template <class Stepper>
-Structure controlled_run(const FoucaultScene& sc, Stepper st, double T, bool measure) {
+Structure controlled_run(const systems::FoucaultPendulum& sc, Stepper st, double T, bool measure) {
   const FoucaultParams<double> p(sc);
   const FoucaultMultiplierOde f(p);
   const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
@@ -182,7 +182,7 @@ int gsl_rhs(double t, const double y[], double dydt[], void* params) {
   return GSL_SUCCESS;
 }
 
-Structure rk8pd_run(const FoucaultScene& sc, double tol, double T, bool measure) {
+Structure rk8pd_run(const systems::FoucaultPendulum& sc, double tol, double T, bool measure) {
   const FoucaultParams<double> p(sc);
   FoucaultMultiplierOde f(p);
   const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
@@ -202,16 +202,22 @@ Structure rk8pd_run(const FoucaultScene& sc, double tol, double T, bool measure)
   return measure ? probe.result(steps) : Structure{};
 }
 
+// The measures, in the summary's order: precession_err, decay_err, constraint_err, discrete_err and
+// own_constraint_err (the constraint each method imposes: discrete_err for the schemes, constraint_err for the ODE
+// methods).
 Point measure_point(const std::string& method, const std::string& family, const std::string& knob, double T, double value,
                     const std::function<Structure(bool)>& run, int reps) {
-  Point pt{method, family, knob, T, value, {}, {std::nan(""), std::nan(""), std::nan(""), reps}};
-  try {
-    pt.s = run(true);
-    pt.time = time_per_call([&] { do_not_optimize(run(false).steps); }, reps);
-  } catch (const NumericalFailure& f) {
-    std::fprintf(stderr, "long_horizon_foucault: %s, T = %g s, %s = %g: %s (recorded as missing values)\n", method.c_str(), T,
-                 knob.c_str(), value, f.what());
-  }
+  Point pt;
+  pt.w = geomint::measure_point(
+      work_point(method, family, knob, value, WorkPoint::nan, T), 5,
+      [&](bool m) {
+        Structure s = run(m);
+        const double own = family == "geometric" ? s.discrete : s.constraint;
+        Measured r{{s.precession, s.decay, s.constraint, s.discrete, own}, s.steps};
+        if (m) pt.s = std::move(s);
+        return r;
+      },
+      reps, method + ", T = " + show(T) + " s, " + knob + " = " + show(value));
   return pt;
 }
 
@@ -230,9 +236,11 @@ int main(int argc, char** argv) {
         "reps", po::value(&reps)->default_value(reps), "timed repetitions");
     if (!cli.parse(argc, argv)) return 0;
     require(!horizons.empty() && !hs.empty() && !tols.empty(), "give at least one value per list");
-    FoucaultScene sc;
+    systems::Foucault sc;  // the scene; the rotation runs use foucault-rotation with the same parameters
     sc.alpha = alpha;
     sc.validate();
+    systems::FoucaultRotation sc_rotation;
+    static_cast<systems::FoucaultPendulum&>(sc_rotation) = sc;
     require(alpha > 0, "alpha must be positive (the decay rate is measured against it)");
     for (double T : horizons) require(std::isfinite(T) && T >= 100 && T <= 1e6, "T must be in [100, 1e6] s, got " + show(T));
     for (double T : horizons)
@@ -251,13 +259,19 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "long_horizon_foucault: T = %g s ...\n", T);
       for (double h : hs) {
         const long N = step_count(h, T);
-        for (auto con : {FoucaultConstraint::rotation, FoucaultConstraint::paper}) {
-          const std::string tag = std::string("-") + to_string(con);
-          pts.push_back(measure_point(std::string("la-nh") + tag, "geometric", "h", T, h,
-                                      [&, con, h, N](bool m) { return scheme_run<schemes::LaNh>(sc, con, h, N, m); }, reps));
-          pts.push_back(measure_point(std::string("contact-nh") + tag, "geometric", "h", T, h,
-                                      [&, con, h, N](bool m) { return scheme_run<schemes::ContactNh>(sc, con, h, N, m); }, reps));
-        }
+        // (15) and (18) under the paper's names, the remedy's rows first, then the paper's
+        auto geometric = [&](const auto& sys) {
+          using Sys = std::decay_t<decltype(sys)>;
+          const std::string tag = std::string("-") + Sys::discretization;
+          pts.push_back(measure_point("la-nh" + tag, "geometric", "h", T, h, [&, h, N](bool m) {
+            return scheme_run<Sys, systems::FoucaultPendulum::La>(sys, h, N, m);
+          }, reps));
+          pts.push_back(measure_point("contact-nh" + tag, "geometric", "h", T, h, [&, h, N](bool m) {
+            return scheme_run<Sys, systems::FoucaultPendulum::Contact>(sys, h, N, m);
+          }, reps));
+        };
+        geometric(sc_rotation);
+        geometric(sc);
         pts.push_back(measure_point("odeint-rk4", "rk", "h", T, h, [&, h, N](bool m) { return rk4_run(sc, h, N, m); }, reps));
       }
       for (double tol : tols) {
@@ -271,7 +285,7 @@ int main(int argc, char** argv) {
       }
     }
 
-    Params params = foucault_scene_params(sc);
+    Params params = sc.header_params();
     params.insert(params.end(), {{"T", format_list(horizons)}, {"h", format_list(hs)}, {"tol", format_list(tols) + " (rel; abs = 1e-8 tol)"},
                                  {"start", "legendre"}, {"reps", std::to_string(reps)},
                                  {"measures", "precession_err = |rate + s|/s (turning points); decay_err = |alpha_fit - alpha|/alpha "
@@ -285,27 +299,34 @@ int main(int argc, char** argv) {
     // Drift of (13) over time: the finest run of each fixed-step method and the tightest of each adaptive one,
     // at the longest horizon.
     TsvWriter drift(dir / "long_horizon_foucault_drift.tsv", "long_horizon_foucault", params, {"method", "knob", "value", "t", "constraint_err"});
-    for (const auto& p : pts) {
-      data.row(p.method, p.family, alpha, p.T, p.knob, p.value, p.s.steps, p.s.turns, p.s.precession, p.s.decay,
-               p.s.constraint, p.s.discrete, p.family == "geometric" ? p.s.discrete : p.s.constraint);
-      tim.row(p.method, p.family, alpha, p.T, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
-      const bool pick = p.T == horizons.back() && p.value == (p.knob == "h" ? hs.back() : tols.back());
+    std::vector<WorkPoint> work;
+    for (auto& pt : pts) {
+      const WorkPoint& p = pt.w;
+      data.row(p.method, p.family, alpha, p.horizon, p.knob, p.value, p.steps, pt.s.turns, p.errors[0], p.errors[1],
+               p.errors[2], p.errors[3], p.errors[4]);
+      tim.row(p.method, p.family, alpha, p.horizon, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
+      const bool pick = p.horizon == horizons.back() && p.value == (p.knob == "h" ? hs.back() : tols.back());
       if (pick)
-        for (const auto& [t, c] : p.s.drift) drift.row(p.method, p.knob, p.value, t, c);
+        for (const auto& [t, c] : pt.s.drift) drift.row(p.method, p.knob, p.value, t, c);
+      work.push_back(p);
+      work.back().group = alpha;  // one damping: the summary's group
     }
     data.commit();
     tim.commit();
     drift.commit();
 
-    const auto d = plots::read_tsv(dir / "long_horizon_foucault.tsv");
-    const auto tt = plots::read_tsv(dir / "long_horizon_foucault_timings.tsv");
-    const long_horizon::Table table{d, tt, "alpha", "T"};
+    // the summary's measures: the errors' columns 0, 1, 2 and 4 (discrete_err is nan for the ODE methods)
     const std::vector<long_horizon::Measure> measures{
         {"precession_err", "precession-rate error |rate + s|/s", 1e-6},
         {"decay_err", "energy-decay-rate error |alpha_fit - alpha|/alpha", 1e-4},
         {"constraint_err", "max |Phi(q,v)| / (|q||v| + s|q|^2), (13)", 1e-8},
         {"own_constraint_err", "residual of the constraint each method imposes", 1e-12}};
-    long_horizon::summarise(table, measures, dir / "long_horizon_foucault_summary.tsv", "long_horizon_foucault", params);
+    for (auto& p : work) p.errors.erase(p.errors.begin() + 3);  // in the measures' order
+    long_horizon::summarise(work, measures, "alpha", "T", dir / "long_horizon_foucault_summary.tsv", "long_horizon_foucault",
+                            params);
+    const auto d = plots::read_tsv(dir / "long_horizon_foucault.tsv");
+    const auto tt = plots::read_tsv(dir / "long_horizon_foucault_timings.tsv");
+    const long_horizon::Table table{d, tt, "alpha", "T"};
 
     // The figure: the three measures against CPU time at the longest horizon, and the drift of (13) over time.
     const auto dr = plots::read_tsv(dir / "long_horizon_foucault_drift.tsv");

@@ -26,8 +26,7 @@
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/long_horizon.hpp"
-#include "geomint/oscillator_registry.hpp"
-#include "geomint/oscillator_schemes.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 #include "geomint/timing.hpp"
@@ -50,13 +49,6 @@ const Measure kMeasures[] = {{"decay_err", "decay-rate error |alpha_fit - alpha|
                              {"phase_err", "phase error at T (rad)", 1e-2},
                              {"balance_err", "dissipation balance error (max over windows)", 1e-5}};
 
-struct Point {
-  std::string method, family, knob;
-  double alpha, periods, value;
-  OscillatorStructure s;
-  TimingStats time;
-};
-
 using Runner = std::function<OscillatorStructure(bool measure)>;
 
 template <class S>
@@ -67,30 +59,29 @@ Runner fixed(double alpha, double q0, double p0, double h, long N, long windows)
   };
 }
 
-// The geometric schemes by name (the oscillator registry's work_precision list).
+// A geometric scheme of the oscillator by name (or alias): its closed form, renormalised between windows.
 Runner geometric(const std::string& name, double alpha, double q0, double p0, double h, long N, long windows) {
-  if (name == schemes::La::name) return fixed<schemes::La>(alpha, q0, p0, h, N, windows);
-  if (name == schemes::Contact::name) return fixed<schemes::Contact>(alpha, q0, p0, h, N, windows);
-  if (name == schemes::LaMidpoint::name) return fixed<schemes::LaMidpoint>(alpha, q0, p0, h, N, windows);
-  if (name == schemes::ContactSymmetric::name) return fixed<schemes::ContactSymmetric>(alpha, q0, p0, h, N, windows);
-  if (name == schemes::Leapfrog::name) return fixed<schemes::Leapfrog>(alpha, q0, p0, h, N, windows);
-  throw InputError("long_horizon_oscillator: no long-horizon driver for scheme '" + name + "'");
-}
-
-Point measure(const std::string& method, const std::string& family, const std::string& knob, double alpha,
-              double periods, double value, const Runner& run, int reps) {
-  Point p{method, family, knob, alpha, periods, value, {}, {std::nan(""), std::nan(""), std::nan(""), reps}};
-  try {
-    p.s = run(true);
-    p.time = time_per_call([&] { do_not_optimize(run(false).steps); }, reps);
-  } catch (const NumericalFailure& f) {
-    std::fprintf(stderr, "long_horizon_oscillator: %s, alpha = %g, %g periods, %s = %g: %s (recorded as missing values)\n",
-                 method.c_str(), alpha, periods, knob.c_str(), value, f.what());
-  }
-  return p;
+  Runner run;
+  generic::visit_closed_form<systems::Oscillator>(
+      name, [&](auto c) { run = fixed<decltype(c)>(alpha, q0, p0, h, N, windows); });
+  return run;
 }
 
 double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
+
+// One point of the study: the four structural errors of kMeasures against the exact values (decay rate alpha,
+// frequency sqrt(1 - alpha^2/4), phase 0, balance 0), and the CPU time.
+WorkPoint measure(const std::string& method, const std::string& family, const std::string& knob, double alpha,
+                  double periods, double value, const Runner& run, int reps) {
+  const double w = std::sqrt(1 - alpha * alpha / 4);
+  return measure_point(
+      work_point(method, family, knob, value, alpha, periods), 4,
+      [&](bool m) {
+        const OscillatorStructure s = run(m);
+        return Measured{{rel(s.decay_rate, alpha), rel(s.frequency, w), std::abs(s.phase_end), s.balance}, s.steps};
+      },
+      reps, method + ", alpha = " + show(alpha) + ", " + show(periods) + " periods, " + knob + " = " + show(value));
+}
 
 }  // namespace
 
@@ -139,9 +130,10 @@ int main(int argc, char** argv) {
     for (double P : periods)
       for (double m : ms) require(P * m <= 1e10, "more than 1e10 steps in one run (periods x m)");
     const auto dir = prepare_output_dir(cli.out);
-    const auto& geo = oscillator_defaults("work_precision");
+    // first order (the paper's), then the second-order comparators under the paper's names
+    const std::vector<std::string> geo{"la", "contact", "la-midpoint", "contact-sym", "leapfrog"};
 
-    std::vector<Point> pts;
+    std::vector<WorkPoint> pts;
     for (double a : alphas)
       for (double P : periods) {
         std::fprintf(stderr, "long_horizon_oscillator: alpha = %g, %g periods ...\n", a, P);
@@ -188,21 +180,21 @@ int main(int argc, char** argv) {
     TsvWriter tim(dir / "long_horizon_oscillator_timings.tsv", "long_horizon_oscillator", params,
                   {"method", "family", "alpha", "periods", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
     for (const auto& p : pts) {
-      const double w = std::sqrt(1 - p.alpha * p.alpha / 4);
-      data.row(p.method, p.family, p.alpha, p.periods, p.knob, p.value, p.s.steps, rel(p.s.decay_rate, p.alpha),
-               rel(p.s.frequency, w), std::abs(p.s.phase_end), p.s.balance);
-      tim.row(p.method, p.family, p.alpha, p.periods, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
+      data.row(p.method, p.family, p.group, p.horizon, p.knob, p.value, p.steps, p.errors[0], p.errors[1], p.errors[2],
+               p.errors[3]);
+      tim.row(p.method, p.family, p.group, p.horizon, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
     }
     data.commit();
     tim.commit();
 
-    // Everything below is read back from the files just written.
+    std::vector<long_horizon::Measure> measures;
+    for (const auto& M : kMeasures) measures.push_back({M.column, M.label, M.target});
+    long_horizon::summarise(pts, measures, "alpha", "periods", dir / "long_horizon_oscillator_summary.tsv",
+                            "long_horizon_oscillator", params);
+    // The figure is drawn from the files just written.
     const auto d = plots::read_tsv(dir / "long_horizon_oscillator.tsv");
     const auto tt = plots::read_tsv(dir / "long_horizon_oscillator_timings.tsv");
     const long_horizon::Table table{d, tt, "alpha", "periods"};
-    std::vector<long_horizon::Measure> measures;
-    for (const auto& M : kMeasures) measures.push_back({M.column, M.label, M.target});
-    long_horizon::summarise(table, measures, dir / "long_horizon_oscillator_summary.tsv", "long_horizon_oscillator", params);
     long_horizon::draw(table, measures, format_number(periods.back()),
                        "Damped oscillator over " + format_number(periods.back()) +
                            " periods: structural error against CPU time (median)",

@@ -1,7 +1,8 @@
 #pragma once
-// What the long-horizon programs print and summarise from their saved TSVs (errors + timings, same row order):
-// the CPU time each method needs to reach a target structural error, the best geometric scheme against the best
-// adaptive method, the crossover horizon, and the slope of log(error) against log(CPU time).
+// How the long-horizon programs report their study (a set of WorkPoints, work_precision.hpp): the summary
+// (summarise_work: the CPU time each method needs to reach a target structural error, the best geometric scheme
+// against the best adaptive method, the crossover horizon, the slope of log(error) against log(CPU time)) written
+// and printed, and the figure drawn from the saved TSVs.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,14 +12,13 @@
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
+#include "geomint/work_precision.hpp"
 
 namespace geomint::long_horizon {
 
-struct Measure {
-  std::string column, label;
-  double target;  // the structural error the summary asks each method to reach
-};
+using Measure = WorkMeasure;
 
+// The saved tables, for the figures (drawn from the files, as every figure is).
 struct Table {
   const plots::TsvTable& d;   // errors: columns method, family, <group>, <horizon>, measures
   const plots::TsvTable& tt;  // timings, same rows: seconds_median
@@ -30,29 +30,8 @@ struct Table {
       if (std::find(v.begin(), v.end(), d.text(r, col)) == v.end()) v.push_back(d.text(r, col));
     return v;
   }
-  std::string family(const std::string& m) const {
-    for (std::size_t r = 0; r < d.rows.size(); ++r)
-      if (d.text(r, "method") == m) return d.text(r, "family");
-    return "";
-  }
   bool in(std::size_t r, const std::string& m, const std::string& g, const std::string& H) const {
     return d.text(r, "method") == m && d.text(r, group) == g && d.text(r, horizon) == H;
-  }
-  // The cheapest run of method m whose error is <= target (INFINITY: none).
-  double time_to(const std::string& m, const std::string& g, const std::string& H, const Measure& M) const {
-    double best = INFINITY;
-    for (std::size_t r = 0; r < d.rows.size(); ++r)
-      if (in(r, m, g, H) && d.number(r, M.column) <= M.target) best = std::min(best, tt.number(r, "seconds_median"));
-    return best;
-  }
-  std::pair<double, double> best_geometric_adaptive(const std::string& g, const std::string& H, const Measure& M) const {
-    double bg = INFINITY, ba = INFINITY;
-    for (const auto& m : values("method")) {
-      const double t = time_to(m, g, H, M);
-      if (family(m) == "geometric") bg = std::min(bg, t);
-      if (family(m) == "adaptive") ba = std::min(ba, t);
-    }
-    return {bg, ba};
   }
 };
 
@@ -63,70 +42,69 @@ inline std::string ms_cell(double seconds) {
   return b;
 }
 
-// Prints the README table (markdown), the crossovers and the slopes; writes them to `summary_path`.
-inline void summarise(const Table& T, const std::vector<Measure>& measures, const std::filesystem::path& summary_path,
+// The study's summary (summarise_work): written to `summary_path`, and printed as the README's table (markdown),
+// the crossovers and the slopes.
+inline void summarise(const std::vector<WorkPoint>& points, const std::vector<Measure>& measures,
+                      const std::string& group, const std::string& horizon, const std::filesystem::path& summary_path,
                       const std::string& program, const Params& params) {
-  const auto methods = T.values("method"), groups = T.values(T.group);
-  auto horizons = T.values(T.horizon);
-  std::sort(horizons.begin(), horizons.end(), [](const std::string& a, const std::string& b) { return std::stod(a) < std::stod(b); });
-  TsvWriter sum(summary_path, program, params, {"kind", "measure", "target", T.group, T.horizon, "method", "value"});
+  const auto rows = summarise_work(points, measures);
+  const auto methods = work_methods(points);
+  TsvWriter sum(summary_path, program, params, {"kind", "measure", "target", group, horizon, "method", "value"});
+  for (const auto& r : rows)
+    sum.row(r.kind, r.measure, r.target, format_number(r.group), r.kind == "crossover" ? "-" : format_number(r.horizon),
+            r.method, r.value);
+  sum.commit();
   std::printf("\nCPU time (ms, median of repeats) to reach the target structural error; '-' = no run reached it\n");
-  std::printf("| measure <= target | %s | %s |", T.group.c_str(), T.horizon.c_str());
+  std::printf("| measure <= target | %s | %s |", group.c_str(), horizon.c_str());
   for (const auto& m : methods) std::printf(" %s |", m.c_str());
   std::printf(" best geometric / best adaptive |\n|---|---|---|");
   for (std::size_t i = 0; i <= methods.size(); ++i) std::printf("---|");
   std::printf("\n");
-  for (const auto& M : measures)
-    for (const auto& g : groups)
-      for (const auto& H : horizons) {
-        std::printf("| %s <= %s | %s | %s |", M.column.c_str(), format_number(M.target).c_str(), g.c_str(), H.c_str());
-        for (const auto& m : methods) {
-          const double t = T.time_to(m, g, H, M);
-          sum.row("seconds_to_target", M.column, M.target, g, H, m, std::isfinite(t) ? t : std::nan(""));
-          std::printf(" %s |", ms_cell(t).c_str());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    if (r.kind == "seconds_to_target") {
+      if (r.method == methods.front())
+        std::printf("| %s <= %s | %s | %s |", r.measure.c_str(), format_number(r.target).c_str(),
+                    format_number(r.group).c_str(), format_number(r.horizon).c_str());
+      std::printf(" %s |", ms_cell(r.value).c_str());
+    } else if (r.kind == "geometric_over_adaptive") {
+      if (std::isfinite(r.value)) {
+        std::printf(" %.3g |\n", r.value);
+      } else {  // which family reached the target, if any
+        bool geo = false, ada = false;
+        for (std::size_t k = i - methods.size(); k < i; ++k) {
+          const bool reached = std::isfinite(rows[k].value);
+          for (const auto& p : points)
+            if (p.method == rows[k].method) {
+              geo = geo || (reached && p.family == "geometric");
+              ada = ada || (reached && p.family == "adaptive");
+              break;
+            }
         }
-        const auto [bg, ba] = T.best_geometric_adaptive(g, H, M);
-        const double ratio = std::isfinite(bg) && std::isfinite(ba) ? bg / ba : std::nan("");
-        sum.row("geometric_over_adaptive", M.column, M.target, g, H, "-", std::isfinite(ratio) ? ratio : std::nan(""));
-        if (std::isfinite(ratio)) {
-          std::printf(" %.3g |\n", ratio);
-        } else {
-          std::printf(" %s |\n", std::isfinite(ba) ? "geometric never" : std::isfinite(bg) ? "adaptive never" : "neither");
-        }
+        std::printf(" %s |\n", ada ? "geometric never" : geo ? "adaptive never" : "neither");
       }
-  // Crossover: the shortest horizon run from which on (at it and every longer one) the best geometric scheme
-  // reaches the target in less CPU time than the best adaptive method.
-  std::printf("\nCrossover horizon (%s) from which a geometric scheme is cheaper at equal structural accuracy:\n", T.horizon.c_str());
-  for (const auto& M : measures)
-    for (const auto& g : groups) {
-      std::string cross = "none";
-      for (auto it = horizons.rbegin(); it != horizons.rend(); ++it) {
-        const auto [bg, ba] = T.best_geometric_adaptive(g, *it, M);
-        if (bg < ba) cross = *it; else break;
-      }
-      sum.row("crossover", M.column, M.target, g, "-", "-", cross == "none" ? std::nan("") : std::stod(cross));
-      std::printf("  %-22s %s = %-6s %s\n", M.column.c_str(), T.group.c_str(), g.c_str(),
-                  cross == "none" ? "none within the horizons run" : ("from " + cross).c_str());
     }
-  // Slope of log(error) against log(CPU time) per method (points above 1e-15), at every horizon.
+  }
+  std::printf("\nCrossover horizon (%s) from which a geometric scheme is cheaper at equal structural accuracy:\n", horizon.c_str());
+  for (const auto& r : rows)
+    if (r.kind == "crossover")
+      std::printf("  %-22s %s = %-6s %s\n", r.measure.c_str(), group.c_str(), format_number(r.group).c_str(),
+                  std::isnan(r.value) ? "none within the horizons run" : ("from " + format_number(r.value)).c_str());
   std::printf("\nFitted slope d log(error) / d log(CPU time):\n");
-  for (const auto& H : horizons)
-    for (const auto& g : groups) {
-      std::printf("  %s = %s, %s = %s\n  %-22s", T.horizon.c_str(), H.c_str(), T.group.c_str(), g.c_str(), "method");
-      for (const auto& M : measures) std::printf(" %14.14s", M.column.c_str());
+  const std::size_t M = measures.size();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    if (r.kind != "slope_vs_cpu_time") continue;
+    if (r.method == methods.front() && r.measure == measures.front().column) {
+      std::printf("  %s = %s, %s = %s\n  %-22s", horizon.c_str(), format_number(r.horizon).c_str(), group.c_str(),
+                  format_number(r.group).c_str(), "method");
+      for (const auto& m : measures) std::printf(" %14.14s", m.column.c_str());
       std::printf("\n");
-      for (const auto& m : methods) {
-        std::printf("  %-22s", m.c_str());
-        for (const auto& M : measures) {
-          auto keep = [&](std::size_t i) { return T.in(i, m, g, H); };
-          const auto fit = fit_order(T.tt.numbers("seconds_median", keep), T.d.numbers(M.column, keep), 1e-15);
-          sum.row("slope_vs_cpu_time", M.column, M.target, g, H, m, fit.slope);
-          std::printf(" %14s", std::isfinite(fit.slope) ? format_number(std::round(fit.slope * 100) / 100).c_str() : "-");
-        }
-        std::printf("\n");
-      }
     }
-  sum.commit();
+    if (r.measure == measures.front().column) std::printf("  %-22s", r.method.c_str());
+    std::printf(" %14s", std::isfinite(r.value) ? format_number(std::round(r.value * 100) / 100).c_str() : "-");
+    if (r.measure == measures[M - 1].column) std::printf("\n");
+  }
 }
 
 // One panel per (group, measure) at one horizon: error against CPU time, one line per method.

@@ -204,7 +204,7 @@ int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<s
           const ParamValues pv = with_alpha(a);
           Cell c{std::nan(""), static_cast<int>(Region::unstable), std::nan(""), std::nan(""), std::nan("")};
           try {
-            const auto r = classify_linear_map(sys.one_step_matrix(pv, names[k / per], h), sys.continuous_matrix(pv), N, h);
+            const auto r = classify_linear_map(sys.one_step_matrix(pv, names[k / per], h, Path::generic), sys.continuous_matrix(pv), N, h);
             c = {r.spectral_radius, static_cast<int>(r.region), r.decay_ratio, r.freq_low, r.freq_high};
           } catch (const NumericalFailure&) {
             // a step that cannot be solved (a singular Newton matrix) is a missing value, classified unstable

@@ -22,14 +22,15 @@
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/gsl_evolve.hpp"
-#include "geomint/integrate.hpp"
 #include "geomint/io.hpp"
 #include "geomint/record.hpp"
-#include "geomint/oscillator_registry.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/system_cli.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 #include "geomint/timing.hpp"
+#include "geomint/work_precision.hpp"
 
 using namespace geomint;
 namespace odeint = boost::numeric::odeint;
@@ -37,21 +38,38 @@ using State2 = std::array<double, 2>;
 
 namespace {
 
-struct Point {
-  std::string method, knob;
-  double alpha, param, err;
-  long steps;
-  TimingStats time;
-};
+// A point of the study (work_precision.hpp): errors = {max_j |q_j - q(t_j)|}, group = alpha; its step count is
+// known before the run (0 for the adaptive methods), and stays in the table where the run fails.
+using Point = WorkPoint;
+Point point(const std::string& method, const std::string& family, const std::string& knob, double alpha, double value,
+            long steps) {
+  Point p = work_point(method, family, knob, value, alpha);
+  p.steps = steps;
+  return p;
+}
+// How a missing point of the oscillator's study is named on stderr.
+std::string context(const std::string& method, double alpha, const char* knob, double value) {
+  return method + " alpha=" + show(alpha) + " " + knob + "=" + show(value);
+}
 
 // The oscillator's scene (the paper's; --q0, --p0, --T change it).
 double T = 50, q0 = -0.25, p0 = 0.75;
+ParamValues scene(double alpha) { return {{"alpha", alpha}, {"q0", q0}, {"p0", p0}, {"T", T}}; }
+double exact_q(double alpha, double t) {
+  return systems::Oscillator{alpha, q0, p0, T}.exact<double>(t).q(0);
+}
 
-Point fixed_step(const OscillatorSchemeInfo& scheme, double alpha, double h, int reps) {
-  const OscillatorScene scene{alpha, q0, p0, T};
-  const double err = scheme.max_error(scene, h);
-  const auto t = time_per_call([&] { do_not_optimize(scheme.integrate(scene, h)); }, reps);
-  return {scheme.name, "h", alpha, h, err, step_count(h, T), t};
+// A scheme of the registry's oscillator (its closed form) against the closed-form solution.
+Point fixed_step(const std::string& name, double alpha, double h, int reps) {
+  const SystemInfo& osc = find_system("oscillator");
+  const long N = step_count(h, T);
+  return measure_point_timed(
+      point(name, "geometric", "h", alpha, h, N), 1,
+      [&] {
+        return Measured{{osc.max_error(scene(alpha), name, h, Path::fast, osc.reference(scene(alpha), h, N, ReferenceKind::exact, 0))},
+                        N};
+      },
+      [&] { return osc.time_run(scene(alpha), name, h, Path::fast, reps); }, reps, context(name, alpha, "h", h));
 }
 
 Point odeint_rk4(double alpha, double h, int reps) {
@@ -62,13 +80,18 @@ Point odeint_rk4(double alpha, double h, int reps) {
     State2 x{q0, p0};
     for (long j = 0; j < N; ++j) {
       st.do_step(sys, x, static_cast<double>(j) * h, h);
-      if (err) *err = std::max(*err, std::abs(x[0] - oscillator_exact(alpha, q0, p0, static_cast<double>(j + 1) * h).q));
+      if (err) *err = std::max(*err, std::abs(x[0] - exact_q(alpha, static_cast<double>(j + 1) * h)));
     }
     do_not_optimize(x[0]);
   };
-  double err = 0;
-  run(&err);
-  return {"odeint-rk4", "h", alpha, h, err, N, time_per_call([&] { run(nullptr); }, reps)};
+  return measure_point_timed(
+      point("odeint-rk4", "rk", "h", alpha, h, N), 1,
+      [&] {
+        double err = 0;
+        run(&err);
+        return Measured{{err}, N};
+      },
+      [&] { return time_per_call([&] { run(nullptr); }, reps); }, reps, context("odeint-rk4", alpha, "h", h));
 }
 
 template <class Stepper>
@@ -80,13 +103,18 @@ Point odeint_adaptive(const std::string& name, Stepper make, double alpha, doubl
     State2 x{q0, p0};
     auto stepper = make(tol);
     size_t n = odeint::integrate_adaptive(stepper, sys, x, 0.0, T, 0.01, [&](const State2& y, double t) {
-      if (measure) err = std::max(err, std::abs(y[0] - oscillator_exact(alpha, q0, p0, t).q));
+      if (measure) err = std::max(err, std::abs(y[0] - exact_q(alpha, t)));
     });
     if (measure) steps = static_cast<long>(n);
     do_not_optimize(x[0]);
   };
-  run(true);
-  return {name, "tol", alpha, tol, err, steps, time_per_call([&] { run(false); }, reps)};
+  return measure_point_timed(
+      point(name, "adaptive", "tol", alpha, tol, 0), 1,
+      [&] {
+        run(true);
+        return Measured{{err}, steps};
+      },
+      [&] { return time_per_call([&] { run(false); }, reps); }, reps, context(name, alpha, "tol", tol));
 }
 
 int gsl_rhs(double, const double y[], double f[], void* params) {
@@ -111,13 +139,18 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
         break;
       }
       ++n;
-      if (measure) err = std::max(err, std::abs(y[0] - oscillator_exact(alpha, q0, p0, t).q));
+      if (measure) err = std::max(err, std::abs(y[0] - exact_q(alpha, t)));
     }
     if (measure) steps = n;
     do_not_optimize(y[0]);
   };
-  run(true);
-  return {"gsl-rk8pd", "tol", alpha, tol, err, steps, time_per_call([&] { run(false); }, reps)};
+  return measure_point_timed(
+      point("gsl-rk8pd", "adaptive", "tol", alpha, tol, 0), 1,
+      [&] {
+        run(true);
+        return Measured{{err}, steps};
+      },
+      [&] { return time_per_call([&] { run(false); }, reps); }, reps, context("gsl-rk8pd", alpha, "tol", tol));
 }
 
 }  // namespace
@@ -140,8 +173,10 @@ int main(int argc, char** argv) {
     require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
     const auto combos = sysopt.combinations();
     if (sysopt.system().name != "oscillator") return generic_work_precision(cli, sysopt, names, h_max, h_min, reps);
-    // The paper's oscillator: alpha 0.01, 0.1, 1 unless given; the schemes of the oscillator registry.
-    require(names.empty(), "work_precision on the oscillator compares the registry's schemes (drop --schemes)");
+    // The paper's oscillator: alpha 0.01, 0.1, 1 unless given; its first-order schemes and the second-order
+    // comparators under the paper's names.
+    require(names.empty(), "work_precision on the oscillator compares the paper's schemes (drop --schemes)");
+    const std::vector<std::string> osc_names{"la", "contact", "la-midpoint", "contact-sym", "leapfrog"};
     std::vector<double> alphas;
     for (const auto& pv : combos) alphas.push_back(param_value(pv, sysopt.system(), "alpha"));
     if (sysopt.swept().empty() && combos.front().end() == std::find_if(combos.front().begin(), combos.front().end(),
@@ -152,7 +187,7 @@ int main(int argc, char** argv) {
     T = param_value(combos.front(), sysopt.system(), "T");
     require(sysopt.swept().empty() || sysopt.swept() == std::vector<std::string>{"alpha"},
             "work_precision on the oscillator sweeps alpha only");
-    for (double a : alphas) OscillatorScene{a, q0, p0, T}.validate();
+    for (double a : alphas) sysopt.system().validate(scene(a));
     const auto dir = prepare_output_dir(cli.out);
 
     const auto hs = halving_sequence(0.2, 2e-4);
@@ -160,29 +195,18 @@ int main(int argc, char** argv) {
     std::vector<Point> pts;
     for (double a : alphas) {
       std::fprintf(stderr, "work_precision: alpha = %g ...\n", a);
-      // A run that fails is a missing point (nan error and times); the sweep goes on.
-      auto point = [&](const std::string& method, const char* knob, double value, long steps, auto&& run) {
-        const double nan = std::nan("");
-        return run_or_missing(method + " alpha=" + show(a) + " " + knob + "=" + show(value), run, [&] {
-          return Point{method, knob, a, value, nan, steps, {nan, nan, nan, reps}};
-        });
-      };
+      // A run that fails is a missing point (nan error and times, measure_point_timed); the sweep goes on.
       for (double h : hs) {
-        for (const auto& name : oscillator_defaults("work_precision"))
-          pts.push_back(point(name, "h", h, step_count(h, T), [&] { return fixed_step(find_oscillator_scheme(name), a, h, reps); }));
-        pts.push_back(point("odeint-rk4", "h", h, step_count(h, T), [&] { return odeint_rk4(a, h, reps); }));
+        for (const auto& name : osc_names) pts.push_back(fixed_step(name, a, h, reps));
+        pts.push_back(odeint_rk4(a, h, reps));
       }
       for (double tol : tols) {
-        pts.push_back(point("odeint-dopri5", "tol", tol, 0, [&] {
-          return odeint_adaptive(
-              "odeint-dopri5",
-              [](double t) { return odeint::make_controlled(t, t, odeint::runge_kutta_dopri5<State2>()); }, a, tol, reps);
-        }));
-        pts.push_back(point("odeint-bulirsch-stoer", "tol", tol, 0, [&] {
-          return odeint_adaptive(
-              "odeint-bulirsch-stoer", [](double t) { return odeint::bulirsch_stoer<State2>(t, t); }, a, tol, reps);
-        }));
-        pts.push_back(point("gsl-rk8pd", "tol", tol, 0, [&] { return gsl_rk8pd(a, tol, reps); }));
+        pts.push_back(odeint_adaptive(
+            "odeint-dopri5", [](double t) { return odeint::make_controlled(t, t, odeint::runge_kutta_dopri5<State2>()); },
+            a, tol, reps));
+        pts.push_back(odeint_adaptive(
+            "odeint-bulirsch-stoer", [](double t) { return odeint::bulirsch_stoer<State2>(t, t); }, a, tol, reps));
+        pts.push_back(gsl_rk8pd(a, tol, reps));
       }
     }
     const Params params{{"alpha", format_list(alphas)}, {"T", format_number(T)}, {"q0", format_number(q0)}, {"p0", format_number(p0)},
@@ -192,8 +216,8 @@ int main(int argc, char** argv) {
     TsvWriter tim(dir / "work_precision_timings.tsv", "work_precision", params,
                   {"method", "alpha", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
     for (const auto& p : pts) {
-      data.row(p.method, p.alpha, p.knob, p.param, p.steps, p.err);
-      tim.row(p.method, p.alpha, p.knob, p.param, p.time.median, p.time.min, p.time.max, p.time.reps);
+      data.row(p.method, p.group, p.knob, p.value, p.steps, p.errors[0]);
+      tim.row(p.method, p.group, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
     }
     data.commit();
     tim.commit();
@@ -262,15 +286,10 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
   std::vector<Point> pts;
   for (const auto& name : schemes)
     for (double h : hs) {
-      Point p{name, "h", std::nan(""), h, std::nan(""), step_count(h, Tsys), {std::nan(""), std::nan(""), std::nan(""), reps}};
-      try {
-        p.err = sys.max_error(pv, name, h, Path::fast, ref);
-        const double sec = sys.seconds_per_run(pv, name, h, Path::fast, reps);
-        p.time = {sec, sec, sec, reps};
-      } catch (const NumericalFailure& f) {
-        std::fprintf(stderr, "work_precision: %s (recorded as a missing value)\n", f.what());
-      }
-      pts.push_back(p);
+      pts.push_back(measure_point_timed(
+          point(name, "geometric", "h", std::nan(""), h, step_count(h, Tsys)), 1,
+          [&] { return Measured{{sys.max_error(pv, name, h, Path::fast, ref)}, step_count(h, Tsys)}; },
+          [&] { return sys.time_run(pv, name, h, Path::fast, reps); }, reps, sys.name + " " + name + " h=" + show(h)));
     }
   // Odeint on x = (q, q'), the acceleration derived from L, F and Phi by AD
   using State = std::vector<double>;
@@ -302,9 +321,8 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
       }
       do_not_optimize(x[0]);
     };
-    const double nan = std::nan("");
-    pts.push_back(run_or_missing(
-        sys.name + " odeint-rk4 h=" + show(h),
+    pts.push_back(measure_point_timed(
+        point("odeint-rk4", "rk", "h", std::nan(""), h, N), 1,
         [&] {
           std::vector<State> xs;
           run(&xs);
@@ -313,9 +331,9 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
             for (int i = 0; i < n; ++i)
               e = std::max(e, std::abs(xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] -
                                        ref.q[static_cast<std::size_t>(j * stride * n + i)]));
-          return Point{"odeint-rk4", "h", nan, h, e, N, time_per_call([&] { run(nullptr); }, reps)};
+          return Measured{{e}, N};
         },
-        [&] { return Point{"odeint-rk4", "h", nan, h, nan, N, {nan, nan, nan, reps}}; }));
+        [&] { return time_per_call([&] { run(nullptr); }, reps); }, reps, sys.name + " odeint-rk4 h=" + show(h)));
   }
   for (double tol : tols) {
     auto dense = [&](auto stepper, std::vector<State>* out) {
@@ -325,25 +343,20 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
       do_not_optimize(x[0]);
       return static_cast<long>(k);
     };
-    const double nan = std::nan("");
-    pts.push_back(run_or_missing(
-        sys.name + " odeint-dopri5 tol=" + show(tol),
-        [&] {
-          std::vector<State> xs;
-          const long steps = dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), &xs);
-          return Point{"odeint-dopri5", "tol", nan, tol, error_of(xs), steps,
-                       time_per_call([&] { dense(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), nullptr); }, reps)};
-        },
-        [&] { return Point{"odeint-dopri5", "tol", nan, tol, nan, 0, {nan, nan, nan, reps}}; }));
-    pts.push_back(run_or_missing(
-        sys.name + " odeint-bulirsch-stoer tol=" + show(tol),
-        [&] {
-          std::vector<State> xs;
-          const long steps = dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), &xs);
-          return Point{"odeint-bulirsch-stoer", "tol", nan, tol, error_of(xs), steps,
-                       time_per_call([&] { dense(odeint::bulirsch_stoer_dense_out<State>(tol, tol), nullptr); }, reps)};
-        },
-        [&] { return Point{"odeint-bulirsch-stoer", "tol", nan, tol, nan, 0, {nan, nan, nan, reps}}; }));
+    // an adaptive run's error and steps (measured), or the same work with nothing kept (timed)
+    auto adaptive = [&](const std::string& method, auto make) {
+      return measure_point_timed(
+          point(method, "adaptive", "tol", std::nan(""), tol, 0), 1,
+          [&] {
+            std::vector<State> xs;
+            const long steps = dense(make(), &xs);
+            return Measured{{error_of(xs)}, steps};
+          },
+          [&] { return time_per_call([&] { dense(make(), nullptr); }, reps); }, reps,
+          sys.name + " " + method + " tol=" + show(tol));
+    };
+    pts.push_back(adaptive("odeint-dopri5", [&] { return odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()); }));
+    pts.push_back(adaptive("odeint-bulirsch-stoer", [&] { return odeint::bulirsch_stoer_dense_out<State>(tol, tol); }));
   }
   Params params = sysopt.header();
   params.insert(params.end(), {{"h", format_list(hs)}, {"tol", format_list(tols)}, {"reps", std::to_string(reps)},
@@ -355,8 +368,8 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
                 {"system", "method", "knob", "value", "seconds_median", "reps"});
   std::vector<std::string> methods;
   for (const auto& p : pts) {
-    data.row(sys.name, p.method, p.knob, p.param, p.steps, p.err);
-    tim.row(sys.name, p.method, p.knob, p.param, p.time.median, p.time.reps);
+    data.row(sys.name, p.method, p.knob, p.value, p.steps, p.errors[0]);
+    tim.row(sys.name, p.method, p.knob, p.value, p.time.median, p.time.reps);
     if (std::find(methods.begin(), methods.end(), p.method) == methods.end()) methods.push_back(p.method);
   }
   data.commit();

@@ -11,7 +11,7 @@
 
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
-#include "geomint/foucault.hpp"
+#include "geomint/systems/foucault.hpp"
 #include "geomint/io.hpp"
 #include "geomint/record.hpp"
 #include "geomint/plots/figure.hpp"
@@ -29,27 +29,35 @@ struct Point {
   TimingStats time;
 };
 
-template <class Scheme>
-Point scheme_point(const FoucaultScene& sc, FoucaultConstraint con, double T, double h, int reps) {
+template <class Sys, class Scheme>
+Point scheme_point(const std::string& name, const Sys& sc, double T, double h, int reps) {
   const FoucaultParams<double> p(sc);
   const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
   const Vec2<double> v0c = consistent_velocity(p, q0, v0);
   const long N = step_count(h, T);
   double err = 0;
-  integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
+  systems::run_closed_form<Scheme>(sc, p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
     const double t = static_cast<double>(st.j + 1) * h;
     err = std::max(err, (st.qn - foucault_exact(p, q0, v0c, t).q).template lpNorm<Eigen::Infinity>());
-  }, con);
+  });
   const auto tm = time_per_call([&] {
     double acc = 0;
-    integrate_foucault<Scheme>(p, q0, v0, h, N, FoucaultStart::legendre,
-                               [&](const FoucaultStep<double>& st) { acc += st.qn(0); }, con);
+    systems::run_closed_form<Scheme>(sc, p, q0, v0, h, N, FoucaultStart::legendre,
+                                     [&](const FoucaultStep<double>& st) { acc += st.qn(0); });
     do_not_optimize(acc);
   }, reps);
-  return {Scheme::name, to_string(con), "h", T, h, err, N, tm};
+  return {name, Sys::discretization, "h", T, h, err, N, tm};
 }
 
-Point odeint_point(const FoucaultScene& sc, double T, double tol, int reps) {
+// The closed form of `name` on system Sys (its constraint row) against the closed-form solution.
+template <class Sys>
+Point scheme_point(const std::string& name, const Sys& sc, double T, double h, int reps) {
+  Point pt;
+  generic::visit_closed_form<Sys>(name, [&](auto c) { pt = scheme_point<Sys, decltype(c)>(name, sc, T, h, reps); });
+  return pt;
+}
+
+Point odeint_point(const systems::FoucaultPendulum& sc, double T, double tol, int reps) {
   const FoucaultParams<double> p(sc);
   const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0);
   const Vec2<double> v0c = consistent_velocity(p, q0, v0);
@@ -75,19 +83,22 @@ int main(int argc, char** argv) {
     cli.options.add_options()("alpha", po::value(&alpha)->default_value(alpha), "damping")(
         "reps", po::value(&reps)->default_value(reps), "timed repetitions");
     if (!cli.parse(argc, argv)) return 0;
-    FoucaultScene sc;
+    systems::Foucault sc;  // the scene; on foucault-rotation below with the same parameters
     sc.alpha = alpha;
     sc.validate();
+    systems::FoucaultRotation sc_rotation;
+    static_cast<systems::FoucaultPendulum&>(sc_rotation) = sc;
     require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
     const auto dir = prepare_output_dir(cli.out);
 
     const auto hs = halving_sequence(0.1, 4e-4);
     const std::vector<double> tols{1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
+    // the paper's constraint before the first pass through the origin, the remedy over 100 s
     struct Horizon {
       double T;
-      FoucaultConstraint con;
+      std::string con;  // the system's discretization of (13)
     };
-    const Horizon horizons[] = {{4, FoucaultConstraint::paper}, {100, FoucaultConstraint::rotation}};
+    const Horizon horizons[] = {{4, systems::Foucault::discretization}, {100, systems::FoucaultRotation::discretization}};
     std::vector<Point> pts;
     for (const auto& hz : horizons) {
       std::fprintf(stderr, "work_precision_foucault: T = %g s ...\n", hz.T);
@@ -95,21 +106,23 @@ int main(int argc, char** argv) {
       const double nan = std::nan("");
       auto missing = [&](const std::string& method, const char* knob, double value, long steps) {
         return [&, method, knob, value, steps] {
-          return Point{method, to_string(hz.con), knob, hz.T, value, nan, steps, {nan, nan, nan, reps}};
+          return Point{method, hz.con, knob, hz.T, value, nan, steps, {nan, nan, nan, reps}};
         };
       };
       auto where = [&](const std::string& method, const char* knob, double value) {
-        return method + " constraint=" + to_string(hz.con) + " T=" + show(hz.T) + " alpha=" + show(alpha) + " " + knob +
+        return method + " constraint=" + hz.con + " T=" + show(hz.T) + " alpha=" + show(alpha) + " " + knob +
                "=" + show(value);
       };
       for (double h : hs) {
         const long N = step_count(h, hz.T);
-        pts.push_back(run_or_missing(where(schemes::LaNh::name, "h", h),
-                                     [&] { return scheme_point<schemes::LaNh>(sc, hz.con, hz.T, h, reps); },
-                                     missing(schemes::LaNh::name, "h", h, N)));
-        pts.push_back(run_or_missing(where(schemes::ContactNh::name, "h", h),
-                                     [&] { return scheme_point<schemes::ContactNh>(sc, hz.con, hz.T, h, reps); },
-                                     missing(schemes::ContactNh::name, "h", h, N)));
+        for (const std::string name : {"la-nh", "contact-nh"})  // (15), (18) under the paper's names
+          pts.push_back(run_or_missing(where(name, "h", h),
+                                       [&] {
+                                         return hz.con == systems::Foucault::discretization
+                                                    ? scheme_point(name, sc, hz.T, h, reps)
+                                                    : scheme_point(name, sc_rotation, hz.T, h, reps);
+                                       },
+                                       missing(name, "h", h, N)));
       }
       for (double tol : tols)
         pts.push_back(run_or_missing(where("odeint-dopri5", "tol", tol), [&] { return odeint_point(sc, hz.T, tol, reps); },
@@ -146,7 +159,7 @@ int main(int argc, char** argv) {
       plots::Panel panel;
       panel.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
                     "set ylabel 'max error in q (m)'\nset key bottom left\nset title 'T = " + format_number(hz.T) +
-                    " s, constraint " + to_string(hz.con) + "'\n";
+                    " s, constraint " + hz.con + "'\n";
       for (const std::string m : {"la-nh", "contact-nh", "odeint-dopri5"}) {
         auto keep = [&](size_t i) { return d.text(i, "method") == m && d.number(i, "T") == hz.T; };
         const auto x = tt.numbers("seconds_median", keep), y = d.numbers("err_max", keep);

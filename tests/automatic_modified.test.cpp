@@ -13,7 +13,6 @@
 #include "geomint/modified/agreement.hpp"
 #include "geomint/modified/all_orders.hpp"
 #include "geomint/modified/automatic_registry.hpp"
-#include "geomint/oscillator_schemes.hpp"
 #include "geomint/study.hpp"
 #include "geomint/systems/foucault.hpp"
 #include "geomint/systems/knife_edge.hpp"
@@ -90,7 +89,7 @@ TEST_CASE("oscillator: every F_k is the h-expansion coefficient of the all-order
       for (int Kt = 1; Kt <= 5; ++Kt) {
         std::vector<double> hs, da, db;
         for (double h : {0.2, 0.1, 0.05, 0.025}) {
-          const auto ao = std::string(scheme) == "la" ? all_orders<schemes::La>(h, alpha) : all_orders<schemes::Contact>(h, alpha);
+          const auto ao = all_orders_by_name(scheme, h, alpha);
           hs.push_back(h);
           da.push_back(std::abs(ao.a + field(Pa, h, Kt)));
           db.push_back(std::abs(ao.b + field(Pb, h, Kt)));

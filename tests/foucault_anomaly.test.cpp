@@ -16,23 +16,28 @@
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
+#include "geomint/observers.hpp"
 #include "helpers.hpp"
+#include "paper_restatements.hpp"
 
 using namespace geomint;
+using LaNh = systems::Foucault::La;          // (15)
+using ContactNh = systems::Foucault::Contact;  // (18)
+const std::string paper = systems::Foucault::name, rotation = systems::FoucaultRotation::name;
 
 namespace {
 
 constexpr double eps = std::numeric_limits<double>::epsilon();
 constexpr double deg = 180 / foucault_pi;
 
-FoucaultScene scene(double alpha, double T) {
-  FoucaultScene sc;
+systems::FoucaultPendulum scene(double alpha, double T) {
+  systems::FoucaultPendulum sc;
   sc.alpha = alpha;
   sc.T = T;
   return sc;
 }
 
-double wrap_pi(double a) { return a - foucault_pi * std::round(a / foucault_pi); }
+double wrap_pi(double a) { return nearest_branch(a, 0.0, foucault_pi); }
 
 // Landings found by the 64-run ensemble (the default when this was written; tau_k = h (k + 1/2)/64) and Figure 2's own
 // runs (tau = 0).
@@ -59,7 +64,7 @@ TEST_CASE("the plane jump is the landing predicted by the paper's discrete const
   long checked = 0, big = 0;
   for (const auto& L : landings) {
     const auto base = scene(1e-3, 3600);
-    const auto run = run_anomaly(base, {L.scheme, FoucaultConstraint::paper, L.alpha, L.h, L.tau, 0}, 0.1 / deg);
+    const auto run = run_anomaly(base, {L.scheme, paper, L.alpha, L.h, L.tau, 0}, 0.1 / deg);
     REQUIRE(run.status == "ok");
     INFO(L.scheme << " alpha " << L.alpha << " h " << L.h << " tau " << L.tau);
     // the recorded largest jump (regression record: the scheme is deterministic)
@@ -106,11 +111,10 @@ TEST_CASE("the detector on a synthetic trajectory with one known kink", "[foucau
   };
   const double E0 = p.m * p.w2 * A * A / 2;
   {
-    AnomalyDetector<double> det(p, h, N, theta0, E0, 0.5 / deg, FoucaultConstraint::paper);
+    AnomalyDetector<systems::Foucault, double> det(p, h, N, theta0, E0, 0.5 / deg);
     for (long j = 0; j < N; ++j) {
       const Vec2<double> qm = point(j - 1), q = point(j), qn = point(j + 1);
-      det(FoucaultStep<double>{j, static_cast<double>(j) * h, qm, q, qn, 0.0, 0.0, FoucaultConstraint::paper,
-                               std::nan("")});
+      det(FoucaultStep<double>{j, static_cast<double>(j) * h, qm, q, qn, 0.0, 0.0, std::nan("")});
     }
     const auto S = det.summary();
     INFO("max jump " << S.max.measured * deg << " deg at t_land " << S.max.t_land);
@@ -131,7 +135,7 @@ TEST_CASE("the detector on a synthetic trajectory with one known kink", "[foucau
     CHECK(S.half_swings == static_cast<long>((static_cast<double>(N) * h) * w / foucault_pi));
   }
   // Without the kink: no jump, plane error zero, to round-off.
-  AnomalyDetector<double> det(p, h, N, theta0, E0, 0.5 / deg, FoucaultConstraint::rotation);
+  AnomalyDetector<systems::FoucaultRotation, double> det(p, h, N, theta0, E0, 0.5 / deg);
   auto smooth = [&](long j) {
     const double t = static_cast<double>(j) * h;
     const double r = A * std::cos(w * t), th = theta0 - p.s * t;
@@ -139,7 +143,7 @@ TEST_CASE("the detector on a synthetic trajectory with one known kink", "[foucau
   };
   for (long j = 0; j < N; ++j) {
     const Vec2<double> qm = smooth(j - 1), q = smooth(j), qn = smooth(j + 1);
-    det(FoucaultStep<double>{j, static_cast<double>(j) * h, qm, q, qn, 0.0, 0.0, FoucaultConstraint::rotation, 0.0});
+    det(FoucaultStep<double>{j, static_cast<double>(j) * h, qm, q, qn, 0.0, 0.0, 0.0});
   }
   CHECK(det.jumps.empty());
   CHECK(std::abs(det.summary().max.measured) < 1e-13);
@@ -148,7 +152,7 @@ TEST_CASE("the detector on a synthetic trajectory with one known kink", "[foucau
 }
 
 TEMPLATE_TEST_CASE("rotation: every step satisfies its rows, lies on the rotated line, and is the LU solve",
-                   "[foucault][remedy]", schemes::LaNh, schemes::ContactNh) {
+                   "[foucault][remedy]", LaNh, ContactNh) {
   // The paper's h = 0.1 hour at alpha = 1e-4, which passes within 1.3e-6 m of the origin.
   const auto sc = scene(1e-4, 3600);
   const double h = 0.1;
@@ -157,11 +161,12 @@ TEMPLATE_TEST_CASE("rotation: every step satisfies its rows, lies on the rotated
   const double phi0 = std::atan2(q0(1), q0(0));
   double worst_line = 0, worst_angle = 0, worst_rows = 0, worst_lu = 0, min_r = 1;
   long steps = 0;
-  integrate_foucault<TestType>(
-      p, q0, Vec2<double>(0, 0), h, 36000, FoucaultStart::legendre,
+  systems::FoucaultRotation sys;
+  static_cast<systems::FoucaultPendulum&>(sys) = sc;
+  systems::run_closed_form<TestType>(
+      sys, p, q0, Vec2<double>(0, 0), h, 36000, FoucaultStart::legendre,
       [&](const FoucaultStep<double>& st) {
         ++steps;
-        REQUIRE(st.constraint == FoucaultConstraint::rotation);
         // The carried angle is phi0 - s t_{j+1}, the exact plane angle; q_{j+1} lies on its line, and its own
         // angle equals it modulo pi, to round-off relative to |q_{j+1}| however close to the origin it is.
         const long double phin = static_cast<long double>(phi0) -
@@ -175,21 +180,20 @@ TEMPLATE_TEST_CASE("rotation: every step satisfies its rows, lies on the rotated
         // rows of the rotation system (header restatement) at round-off, and the closed form = PartialPivLU
         const auto L = foucault_line<double>(phi0 - p.s * (static_cast<double>(st.j) * h));
         const auto Lnd = foucault_line<double>(st.phin);
-        const auto r = TestType::residual_rotation(p, st.qm, st.q, st.qn, st.lambda1, h, L, Lnd);
+        const auto r = testing::rotation_rows<TestType>(p, st.qm, st.q, st.qn, st.lambda1, h, L, Lnd);
         const double scale_dyn = (st.qm.norm() + 2 * st.q.norm() + st.qn.norm()) /
-                                 (std::is_same_v<TestType, schemes::LaNh> ? h : h * h);
+                                 (std::is_same_v<TestType, LaNh> ? h : h * h);
         worst_rows = std::max({worst_rows, std::abs(r(0)) / scale_dyn, std::abs(r(1)) / scale_dyn,
                                std::abs(r(2)) / (st.q.norm() + st.qn.norm())});
-        const auto ls = TestType::system_rotation(p, st.qm, st.q, h, L, Lnd);
+        const auto ls = testing::rotation_system<TestType>(p, st.qm, st.q, h, L, Lnd);
         const Eigen::Vector3d z = ls.A.partialPivLu().solve(ls.b);
         worst_lu = std::max(worst_lu, (z.head<2>() - st.qn).norm() / (st.qm.norm() + st.q.norm()));
         // the determinant does not depend on q_j: c cos(s h) / m (the paper's is c |q_j|^2 / (m h))
         if (st.j % 5000 == 0) {
-          const double c = std::is_same_v<TestType, schemes::LaNh> ? 1 / h + p.alpha : 1 / (h * h);
+          const double c = std::is_same_v<TestType, LaNh> ? 1 / h + p.alpha : 1 / (h * h);
           CHECK(std::abs(ls.A.determinant()) == Approx(c * std::cos(p.s * h) / p.m).epsilon(1e-12));
         }
-      },
-      FoucaultConstraint::rotation);
+      });
   INFO(TestType::name << ": line " << worst_line / eps << " eps, angle " << worst_angle / eps << " eps, rows "
                       << worst_rows / eps << " eps, LU " << worst_lu / eps << " eps, min r " << min_r);
   CHECK(steps == 36000);
@@ -214,9 +218,9 @@ TEST_CASE("rotation: a step from the origin itself is regular", "[foucault][reme
     double l1;
     const Vec2<double> qm = 0.01 * L.e, q(0, 0);
     if (k == 0)
-      schemes::LaNh::step_rotation(p, qm, q, h, L, Ln, qn, l1);
+      LaNh::step_rotation(p, qm, q, h, L, Ln, qn, l1);
     else
-      schemes::ContactNh::step_rotation(p, qm, q, h, L, Ln, qn, l1);
+      ContactNh::step_rotation(p, qm, q, h, L, Ln, qn, l1);
     CHECK(std::isfinite(l1));
     CHECK(std::abs(Ln.n.dot(qn)) < 1e-18);
     CHECK(Ln.e.dot(qn) < -0.009);  // carried on through the origin: ~ -0.01 (one more step's travel)
@@ -226,9 +230,9 @@ TEST_CASE("rotation: a step from the origin itself is regular", "[foucault][reme
 TEST_CASE("rotation removes the jumps where the paper's discretization has them", "[foucault][remedy]") {
   const auto base = scene(1e-3, 3600);
   for (const auto& L : landings) {
-    const AnomalyCase c{L.scheme, FoucaultConstraint::paper, L.alpha, L.h, L.tau, 0};
+    const AnomalyCase c{L.scheme, paper, L.alpha, L.h, L.tau, 0};
     AnomalyCase r = c;
-    r.constraint = FoucaultConstraint::rotation;
+    r.system = rotation;
     const auto rp = run_anomaly(base, c, 0.1 / deg), rr = run_anomaly(base, r, 0.1 / deg);
     REQUIRE(rp.status == "ok");
     REQUIRE(rr.status == "ok");
@@ -255,7 +259,7 @@ TEST_CASE("rotation: fitted orders against the closed form, across passes throug
   // (fitted 0.98: a landing near the origin kicks the plane by s h / rho); the remedy keeps it (measured 2.002),
   // LA stays first order (1.002, same as the paper's: its error is its first-order Legendre transform), and at
   // alpha = 0.1 the contact remedy is first order like the paper's (the alpha^2 h term of (11); 0.996).
-  auto err = [](const char* scheme, FoucaultConstraint c, double alpha, double T, const std::vector<double>& hs) {
+  auto err = [](const char* scheme, const std::string& system, double alpha, double T, const std::vector<double>& hs) {
     const auto sc = scene(alpha, T);
     const FoucaultParams<double> p(sc);
     const Vec2<double> q0(sc.x0, sc.y0), v0(0, 0);
@@ -263,29 +267,31 @@ TEST_CASE("rotation: fitted orders against the closed form, across passes throug
     std::vector<double> e;
     for (double h : hs) {
       double m = 0;
-      visit_foucault_scheme(scheme, [&](auto s) {
-        integrate_foucault<decltype(s)>(
-            p, q0, v0, h, step_count(h, T), FoucaultStart::legendre,
-            [&](const FoucaultStep<double>& st) {
-              m = std::max(m, (st.qn - foucault_exact(p, q0, v0c, static_cast<double>(st.j + 1) * h).q).norm());
-            },
-            c);
+      systems::visit_foucault_system(system, [&](auto sys) {
+        using Sys = decltype(sys);
+        static_cast<systems::FoucaultPendulum&>(sys) = sc;
+        generic::visit_closed_form<Sys>(scheme, [&](auto s) {
+          systems::run_closed_form<decltype(s)>(
+              sys, p, q0, v0, h, step_count(h, T), FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
+                m = std::max(m, (st.qn - foucault_exact(p, q0, v0c, static_cast<double>(st.j + 1) * h).q).norm());
+              });
+        });
       });
       e.push_back(m);
     }
     return e;
   };
   const auto hs = halving_sequence(0.1, 0.0015625);  // 7 points
-  const auto rot = FoucaultConstraint::rotation;
+  const auto& rot = rotation;
   CHECK(fit_order(hs, err("contact-nh", rot, 1e-3, 32, hs)).slope == Approx(2).margin(0.05));
   CHECK(fit_order(hs, err("contact-nh", rot, 1e-4, 32, hs)).slope == Approx(2).margin(0.05));
   CHECK(fit_order(hs, err("la-nh", rot, 1e-3, 32, hs)).slope == Approx(1).margin(0.05));
   CHECK(fit_order(hs, err("contact-nh", rot, 0.1, 32, hs)).slope == Approx(1).margin(0.05));
   // The contrast, recorded: the paper's contact over the same passes (fitted 0.98 at alpha = 1e-3).
-  const auto paper = err("contact-nh", FoucaultConstraint::paper, 1e-3, 32, hs);
+  const auto printed = err("contact-nh", paper, 1e-3, 32, hs);
   const auto remedy = err("contact-nh", rot, 1e-3, 32, hs);
-  CHECK(fit_order(hs, paper).slope < 1.5);
-  CHECK(paper[4] > 10 * remedy[4]);  // h = 0.00625: 2.6e-5 m against 1.7e-6 m
+  CHECK(fit_order(hs, printed).slope < 1.5);
+  CHECK(printed[4] > 10 * remedy[4]);  // h = 0.00625: 2.6e-5 m against 1.7e-6 m
 }
 
 TEST_CASE("long double and quad reruns give the same jump: it is the scheme, not rounding", "[foucault][anomaly][precision]") {
@@ -294,7 +300,7 @@ TEST_CASE("long double and quad reruns give the same jump: it is the scheme, not
   // cpp_bin_float_quad, through Eigen): measured relative differences 1.2e-7 (double vs wider: double's
   // round-off over 6700 steps, ~1e-14 m, divided by the landing distance) and 1.4e-10 (long double vs quad).
   const auto base = scene(1e-3, 3600);
-  const AnomalyCase c{"contact-nh", FoucaultConstraint::paper, 1e-3, 0.1, 0.1 * 59.5 / 64, 59};
+  const AnomalyCase c{"contact-nh", paper, 1e-3, 0.1, 0.1 * 59.5 / 64, 59};
   const auto full = run_anomaly(base, c, 0.1 / deg);
   REQUIRE(full.status == "ok");
   const FoucaultJump J = full.summary.max;
@@ -331,7 +337,7 @@ TEST_CASE("ensemble: the time shift randomizes the landings, rotating or scaling
   const long M = 32;
   std::vector<double> xi;
   for (long k = 0; k < M; ++k) {
-    const auto r = run_anomaly(base, {"la-nh", FoucaultConstraint::paper, 1e-4, 0.1, 0.1 * (k + 0.5) / M, k}, 0.0,
+    const auto r = run_anomaly(base, {"la-nh", paper, 1e-4, 0.1, 0.1 * (k + 0.5) / M, k}, 0.0,
                                Precision::double_, 100);
     REQUIRE(r.status == "ok");
     REQUIRE(!r.jumps.empty());
@@ -350,11 +356,11 @@ TEST_CASE("ensemble: the time shift randomizes the landings, rotating or scaling
   CHECK(ks < 0.1);
   // Rotating q0 by 0.7 rad or scaling it by 1.5 leaves every landing ratio, hence every jump, unchanged:
   // the schemes are rotation-equivariant and the radial motion is linear. (Why the ensembles shift time.)
-  FoucaultScene turned = base, scaled = base;
+  systems::FoucaultPendulum turned = base, scaled = base;
   turned.x0 = 0.67 * std::cos(0.7);
   turned.y0 = 0.67 * std::sin(0.7);
   scaled.x0 = 1.5 * 0.67;
-  const AnomalyCase c{"contact-nh", FoucaultConstraint::paper, 1e-4, 0.1, 0.0, 0};
+  const AnomalyCase c{"contact-nh", paper, 1e-4, 0.1, 0.0, 0};
   const auto r0 = run_anomaly(base, c, 0.1 / deg), rt = run_anomaly(turned, c, 0.1 / deg),
              rs = run_anomaly(scaled, c, 0.1 / deg);
   CHECK(rt.summary.max.measured == Approx(r0.summary.max.measured).epsilon(1e-6));
@@ -366,18 +372,17 @@ TEST_CASE("ensemble: the time shift randomizes the landings, rotating or scaling
 
 TEST_CASE("ensemble runner and summary: rows for every case, failures as data", "[foucault][ensemble]") {
   const auto base = scene(1e-4, 400);
-  auto cases = anomaly_cases({0.1, 0.05}, {1e-4}, {"la-nh", "contact-nh"},
-                             {FoucaultConstraint::paper, FoucaultConstraint::rotation}, 6);
+  auto cases = anomaly_cases({0.1, 0.05}, {1e-4}, {"la-nh", "contact-nh"}, {paper, rotation}, 6);
   REQUIRE(cases.size() == 2 * 2 * 2 * 6);
   CHECK(cases.front().h == 0.05);  // the expensive ones first
   std::set<double> taus;
   for (const auto& c : cases) {
     CHECK(c.tau >= 0);
     CHECK(c.tau < c.h);
-    if (c.h == 0.1 && c.scheme == "la-nh" && c.constraint == FoucaultConstraint::paper) taus.insert(c.tau);
+    if (c.h == 0.1 && c.scheme == "la-nh" && c.system == paper) taus.insert(c.tau);
   }
   CHECK(taus.size() == 6);
-  cases.push_back({"nosuch", FoucaultConstraint::paper, 1e-4, 0.1, 0.0, 99});
+  cases.push_back({"nosuch", paper, 1e-4, 0.1, 0.0, 99});
   std::size_t last_done = 0, calls = 0;
   const auto runs = run_anomaly_ensemble(base, cases, 0.1 / deg, 2, [&](std::size_t d, std::size_t n) {
     CHECK(d <= n);
@@ -392,13 +397,13 @@ TEST_CASE("ensemble runner and summary: rows for every case, failures as data", 
     CHECK(runs[i].status == "ok");
     CHECK(runs[i].c.tau == cases[i].tau);
     CHECK(runs[i].steps == step_count(cases[i].h, 400));
-    if (runs[i].c.constraint == FoucaultConstraint::rotation) CHECK(std::abs(runs[i].summary.max.measured) < 1e-12);
+    if (runs[i].c.system == rotation) CHECK(std::abs(runs[i].summary.max.measured) < 1e-12);
   }
   CHECK(runs.back().status.find("unknown scheme 'nosuch'") != std::string::npos);
   // A numerical failure is a status too: |q0| = 1e200 overflows r_j^2 at the first step.
-  FoucaultScene huge = base;
+  systems::FoucaultPendulum huge = base;
   huge.x0 = 1e200;
-  const auto bad = run_anomaly(huge, {"la-nh", FoucaultConstraint::paper, 1e-4, 0.1, 0.0, 0}, 0.1 / deg);
+  const auto bad = run_anomaly(huge, {"la-nh", paper, 1e-4, 0.1, 0.0, 0}, 0.1 / deg);
   CHECK(bad.status.find("numerical failure") != std::string::npos);
   // summary: one cell per (scheme, constraint, alpha, h) plus the failed case's own cell
   const auto cells = summarize_anomaly(base, runs, 0.1 / deg);
@@ -414,7 +419,7 @@ TEST_CASE("ensemble runner and summary: rows for every case, failures as data", 
     CHECK(c.p_jump[0] >= c.p_jump[1]);
     CHECK(c.p_jump[1] >= c.p_jump[2]);
     CHECK(c.mean_jumps[0] >= c.p_jump[0]);  // a run with a jump > 1 deg has at least one
-    if (c.constraint == FoucaultConstraint::rotation) {
+    if (c.system == rotation) {
       CHECK(c.p_jump[0] == 0);
       CHECK(c.median_abs_plane_error_deg < 1e-10);
     }

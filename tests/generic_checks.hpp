@@ -96,16 +96,17 @@ void check_all_fast_paths(const Sys& sys, double h, long N) {
   const double eps = std::numeric_limits<double>::epsilon();
   std::apply([&](auto... fp) {
     (([&] {
-       using FP = decltype(fp);
-       const auto d = compare<Sys, typename FP::generic, typename FP::closed>(sys, h, N);
+       using C = decltype(fp);
+       using G = typename C::solves;
+       const auto d = compare<Sys, G, C>(sys, h, N);
        const double bound_q = double(N) * eps * d.qmax, bound_p = double(N) * eps * d.pmax;
-       INFO(Sys::name << ": " << FP::closed::name << " vs generic " << generic::scheme_name<typename FP::generic>()
+       INFO(Sys::name << ": " << C::name << " vs generic " << generic::scheme_name<G>()
                       << " over " << N << " steps: |dq| " << d.q << " (bound " << bound_q << "), |dp| " << d.p
                       << " (bound " << bound_p << "), |dz| " << d.z);
        CHECK(d.q <= bound_q);
        CHECK(d.p <= bound_p);
        CHECK(d.z <= bound_p * h * 10);  // z accumulates h L per step: |L| <~ |p|^2 ~ 10 |p| here
-       WARN(Sys::name << " " << FP::closed::name << ": |dq| = " << d.q << " = " << d.q / bound_q
+       WARN(Sys::name << " " << C::name << ": |dq| = " << d.q << " = " << d.q / bound_q
                       << " of the bound, |dp| = " << d.p << " = " << d.p / bound_p << " of the bound");
      }()),
      ...);

@@ -9,13 +9,14 @@
 #include <catch2/catch.hpp>
 #include <gsl/gsl_integration.h>
 
-#include "geomint/foucault.hpp"
+#include "geomint/foucault_diagnostics.hpp"
 #include "geomint/generic/dual.hpp"
 #include "geomint/long_horizon.hpp"
-#include "geomint/oscillator_schemes.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/study.hpp"
 
 using namespace geomint;
+using Osc = systems::Oscillator;
 
 namespace {
 
@@ -30,7 +31,7 @@ double exact_work(double alpha, double q0, double p0, double a, double b) {
   gsl_function f;
   f.function = [](double t, void* c) {
     const auto* x = static_cast<const Ctx*>(c);
-    const double p = oscillator_exact(x->alpha, x->q0, x->p0, t).v;
+    const double p = Osc{x->alpha, x->q0, x->p0}.exact<double>(t).v(0);
     return x->alpha * p * p;
   };
   f.params = &ctx;
@@ -45,9 +46,8 @@ double exact_work(double alpha, double q0, double p0, double a, double b) {
 // (Q_j then decays like rho^{2j}) and frequency phi/h.
 template <class S>
 std::pair<double, double> spectral_rate_frequency(double h, double alpha) {
-  long double M[2][2];
-  one_step_matrix<S>(h, alpha, M);
-  const long double det = M[0][0] * M[1][1] - M[0][1] * M[1][0], tr = M[0][0] + M[1][1];
+  const auto M = Osc{alpha}.closed_form_matrix<S>(h);  // row-major (q, p)
+  const long double det = M[0] * M[3] - M[1] * M[2], tr = M[0] + M[3];
   const long double phi = std::acos(tr / (2 * std::sqrt(det)));
   return {static_cast<double>(-std::log(det) / h), static_cast<double>(phi / h)};
 }
@@ -80,7 +80,10 @@ TEST_CASE("long-horizon measures recover the exact decay rate, frequency, phase 
     long next = 0;
     for (long j = 0; j <= N; ++j) {
       const double t = T * static_cast<double>(j) / static_cast<double>(N);
-      const auto x = oscillator_exact(alpha, q0, p0, t);
+      const auto e = Osc{alpha, q0, p0}.exact<double>(t);
+      const struct {
+        double q, v;
+      } x{e.q(0), e.v(0)};
       if (j == next * N / windows) {
         const double t0 = next == 0 ? 0 : T * static_cast<double>((next - 1) * N / windows) / static_cast<double>(N);
         probe.boundary(t, x.q, x.v, 0, next == 0 ? 0 : exact_work(alpha, q0, p0, t0, t));
@@ -119,11 +122,11 @@ TEST_CASE("long-horizon measures on the schemes agree with their one-step spectr
     // the phase error accumulated over T is (freq - omega) T up to the bounded oscillation of theta (O(h))
     CHECK(std::abs(std::abs(r.phase_end) - std::abs(freq - omega) * kTwoPi * periods) <= 2 * h);
   };
-  check(schemes::La{}, "la");
-  check(schemes::Contact{}, "contact");
-  check(schemes::LaMidpoint{}, "la-midpoint");
-  check(schemes::ContactSymmetric{}, "contact-sym");
-  check(schemes::Leapfrog{}, "leapfrog");
+  check(Osc::La{}, "la");
+  check(Osc::Contact{}, "contact");
+  check(Osc::LaMidpoint{}, "la-midpoint");
+  check(Osc::ContactSymmetric{}, "contact-sym");
+  check(Osc::Leapfrog{}, "leapfrog");
 }
 
 TEST_CASE("decay-rate and frequency errors fall with the schemes' orders", "[long_horizon][oscillator][order]") {
@@ -150,11 +153,11 @@ TEST_CASE("decay-rate and frequency errors fall with the schemes' orders", "[lon
     }
     return std::pair<double, double>{fit_order(hs, decay).slope, fit_order(hs, freq).slope};
   };
-  const auto [la_d, la_f] = slopes(schemes::La{}, 0.1);
-  const auto [co_d, co_f] = slopes(schemes::Contact{}, 0.01);
-  const auto [lm_d, lm_f] = slopes(schemes::LaMidpoint{}, 0.1);
-  const auto [cs_d, cs_f] = slopes(schemes::ContactSymmetric{}, 0.1);
-  const auto [lf_d, lf_f] = slopes(schemes::Leapfrog{}, 0.1);
+  const auto [la_d, la_f] = slopes(Osc::La{}, 0.1);
+  const auto [co_d, co_f] = slopes(Osc::Contact{}, 0.01);
+  const auto [lm_d, lm_f] = slopes(Osc::LaMidpoint{}, 0.1);
+  const auto [cs_d, cs_f] = slopes(Osc::ContactSymmetric{}, 0.1);
+  const auto [lf_d, lf_f] = slopes(Osc::Leapfrog{}, 0.1);
   CHECK(la_d == Approx(1).margin(0.1));
   CHECK(co_d == Approx(1).margin(0.1));
   CHECK(la_f == Approx(1).margin(0.15));
@@ -186,12 +189,12 @@ TEST_CASE("one-step maps contract phase-space area by exactly their derived dete
     const double q = U(rng), p = U(rng), h = H(rng), a = A(rng);
     CAPTURE(q, p, h, a);
     const double tol = 16 * eps;
-    CHECK(std::abs(step_jacobian_det<schemes::Contact>(q, p, h, a) - (1 - h * a)) <= tol);
-    CHECK(std::abs(step_jacobian_det<schemes::ContactSymmetric>(q, p, h, a) - (1 - h * a / 2) / (1 + h * a / 2)) <= tol);
-    CHECK(std::abs(step_jacobian_det<schemes::La>(q, p, h, a) - 1 / (1 + h * a)) <= tol);
-    CHECK(std::abs(step_jacobian_det<schemes::LaMidpoint>(q, p, h, a) -
+    CHECK(std::abs(step_jacobian_det<Osc::Contact>(q, p, h, a) - (1 - h * a)) <= tol);
+    CHECK(std::abs(step_jacobian_det<Osc::ContactSymmetric>(q, p, h, a) - (1 - h * a / 2) / (1 + h * a / 2)) <= tol);
+    CHECK(std::abs(step_jacobian_det<Osc::La>(q, p, h, a) - 1 / (1 + h * a)) <= tol);
+    CHECK(std::abs(step_jacobian_det<Osc::LaMidpoint>(q, p, h, a) -
                    (1 - h * a / 2 + h * h / 4) / (1 + h * a / 2 + h * h / 4)) <= tol);
-    CHECK(std::abs(step_jacobian_det<schemes::Leapfrog>(q, p, h, a) - (1 - h * a / 2) / (1 + h * a / 2)) <= tol);
+    CHECK(std::abs(step_jacobian_det<Osc::Leapfrog>(q, p, h, a) - (1 - h * a / 2) / (1 + h * a / 2)) <= tol);
   }
   // Over many steps the area of a parallelogram of tangent vectors is det^N: 10^4 contact steps at h = 0.1,
   // alpha = 0.1 give (0.99)^N = 2.2e-44, matched to the accumulated round-off (N * 16 eps relative).
@@ -199,7 +202,7 @@ TEST_CASE("one-step maps contract phase-space area by exactly their derived dete
   const double h = 0.1, a = 0.1;
   const long N = 10000;
   OscState<D> s{D::variable(0.3, 0), D::variable(-0.2, 1), D(0.0)};
-  for (long j = 0; j < N; ++j) schemes::Contact::step(s, D(h), D(a));
+  for (long j = 0; j < N; ++j) Osc::Contact::step(s, D(h), D(a));
   const double area = s.q.d[0] * s.p.d[1] - s.q.d[1] * s.p.d[0];
   const double exact = std::pow(1 - h * a, static_cast<double>(N));
   CHECK(std::abs(area / exact - 1) <= static_cast<double>(N) * 16 * eps);
@@ -214,12 +217,12 @@ TEST_CASE("nonholonomic schemes keep their discrete constraint at round-off over
   // (paper: |Phi_d| / (|q_j| (|q_j| + |q_{j+1}|)/h); rotation: |n(phi_{j+1}).q_{j+1}| / (|q_j| + |q_{j+1}|)): each
   // step solves its constraint row afresh, so nothing accumulates and the bound of the one-hour test (4 eps) holds
   // over ten hours. A constraint only kept on average (or a drifting one) would grow with the 360 000 steps.
-  FoucaultScene sc;
+  systems::FoucaultPendulum sc;
   sc.T = 36000;
   for (const char* scheme : {"la-nh", "contact-nh"})
-    for (auto con : {FoucaultConstraint::rotation, FoucaultConstraint::paper}) {
-      const auto run = run_foucault(scheme, sc, 0.1, FoucaultStart::legendre, 100000, con);
-      INFO(scheme << " " << to_string(con) << ": max residual " << run.summary.max_residual / eps << " eps");
+    for (const char* system : {"foucault-rotation", "foucault"}) {
+      const auto run = run_foucault(system, scheme, sc, 0.1, FoucaultStart::legendre, 100000);
+      INFO(scheme << " " << system << ": max residual " << run.summary.max_residual / eps << " eps");
       CHECK(run.summary.max_residual < 4 * eps);
     }
 }
@@ -235,7 +238,7 @@ TEST_CASE("the multiplier ODE's constraint drift is measured: it grows far above
   // the first hour, 1 in the tenth (the motion has left the constraint entirely). Round-off alone gives a few eps
   // (the schemes: < 4 eps, test above). Asserted with margins of about 100 on both: the first hour above 1e4 eps,
   // and the tenth hour above 100 times the first (growth, not a constant offset).
-  FoucaultScene sc;
+  systems::FoucaultPendulum sc;
   sc.T = 36000;
   std::vector<double> times;
   for (long k = 0; k <= 36000; ++k) times.push_back(static_cast<double>(k));

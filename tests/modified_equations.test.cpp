@@ -9,8 +9,8 @@
 #include "geomint/modified/all_orders.hpp"
 #include "geomint/modified/equations.hpp"
 #include "geomint/modified/lagrangians.hpp"
-#include "geomint/oscillator_registry.hpp"
-#include "geomint/oscillator_schemes.hpp"
+#include "geomint/registry.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/study.hpp"
 
 using namespace geomint;
@@ -113,7 +113,7 @@ TEST_CASE("the original equation in the same pipeline equals the closed-form sol
   for (const char* scheme : {"la", "contact"}) {
     const auto s = modified_solution(scheme, 0.3, 0.05, 0.0, T, q0, p0, Start::naive);
     double worst = 0;
-    for (size_t j = 0; j < s.t.size(); ++j) worst = std::max(worst, std::abs(s.q[j] - oscillator_exact(0.3, q0, p0, s.t[j]).q));
+    for (size_t j = 0; j < s.t.size(); ++j) worst = std::max(worst, std::abs(s.q[j] - systems::Oscillator{0.3, q0, p0}.exact<double>(s.t[j]).q(0)));
     CHECK(worst < 1e-10);
   }
 }
@@ -134,9 +134,9 @@ TEST_CASE("all-orders modified coefficients: exact sampling and first order of (
     for (double alpha : {0.01, 0.1, 1.0}) {
       std::vector<double> da, db;
       for (double h : hs()) {
-        const auto m = std::string(scheme) == "la" ? all_orders<schemes::La>(h, alpha) : all_orders<schemes::Contact>(h, alpha);
+        const auto m = all_orders_by_name(scheme, h, alpha);
         REQUIRE(m.valid);
-        const auto tr = find_oscillator_scheme(scheme).run({alpha, q0, p0, T}, h);
+        const auto tr = find_system("oscillator").run({{"alpha", alpha}, {"q0", q0}, {"p0", p0}, {"T", T}}, scheme, h, Path::fast, 1);
         INFO(scheme << " alpha " << alpha << " h " << h);
         CHECK(all_orders_deviation(m, tr.t, tr.q) < 1e-11);  // round-off over up to 32 000 steps
         const auto c = modified_coefficients(scheme, alpha, h);

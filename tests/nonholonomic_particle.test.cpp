@@ -20,7 +20,7 @@ TEST_CASE("particle: every step satisfies the forced discrete EL equations and t
   double worst_el = 0, worst_c = 0;
   for (int j = 0; j < 2000; ++j) {
     const V3 qj = q, vm = v;
-    const double lm = schemes::ParticleLaNh::step(P, q, v, h);
+    const double lm = systems::NonholonomicParticle::La::step(P, q, v, h);
     // literal: m v_{j-1} - m (1 + h alpha) v_j - h m w2 q_j - lambda a(q_j) = 0
     const V3 a(-qj(1), 0, 1);
     const V3 el = P.m * vm - P.m * (1 + h * P.alpha) * v - h * P.m * P.w2 * qj - P.m * lm * a;
@@ -48,7 +48,7 @@ TEST_CASE("particle: first order against the continuous Lagrange-d'Alembert equa
     V3 q = q0, v = v0;
     double err = 0;
     for (long j = 1; j <= N; ++j) {
-      schemes::ParticleLaNh::step(P, q, v, h);
+      systems::NonholonomicParticle::La::step(P, q, v, h);
       const auto& r = ref[static_cast<size_t>(j)];
       err = std::max(err, (q - V3(r[0], r[1], r[2])).lpNorm<Eigen::Infinity>());
     }

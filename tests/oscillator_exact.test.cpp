@@ -3,10 +3,18 @@
 
 #include <cmath>
 
-#include "geomint/oscillator.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/reference.hpp"
 
 using namespace geomint;
+
+namespace {
+// The oscillator system's closed-form solution (linear_oscillator_solution with b = 1).
+LinearOscillatorSolution<double> oscillator_exact(double alpha, double q0, double p0, double t) {
+  const auto x = systems::Oscillator{alpha, q0, p0}.exact<double>(t);
+  return {x.q(0), x.v(0)};
+}
+}  // namespace
 
 TEST_CASE("closed-form solution matches Odeint at tolerance 1e-13", "[oscillator][exact]") {
   // under-damped, near-critical on both sides, critical, over-damped

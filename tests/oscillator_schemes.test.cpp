@@ -6,13 +6,22 @@
 #include <Eigen/Core>
 #include <unsupported/Eigen/AutoDiff>
 
-#include "geomint/oscillator_registry.hpp"
-#include "geomint/oscillator_schemes.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/study.hpp"
+#include "geomint/systems/oscillator.hpp"
+#include "paper_restatements.hpp"
 
 using namespace geomint;
+using Osc = systems::Oscillator;
 
 namespace {
+
+// max_j |q_j - q(t_j)| of a scheme of the registry's oscillator (its closed form) against the closed-form solution.
+double max_error(const std::string& scheme, double alpha, double h) {
+  const auto& osc = find_system("oscillator");
+  const ParamValues pv{{"alpha", alpha}, {"q0", -0.25}, {"p0", 0.75}, {"T", 50}};
+  return osc.max_error(pv, scheme, h, Path::fast, osc.reference(pv, h, step_count(h, 50), ReferenceKind::exact, 0));
+}
 
 using AD = Eigen::AutoDiffScalar<Eigen::Vector3d>;
 
@@ -50,7 +59,7 @@ std::vector<OscState<double>> trajectory(double h, double alpha, int n, double q
 TEST_CASE("LA step satisfies the forced discrete Euler-Lagrange equations (1), AD-differentiated", "[oscillator][la]") {
   for (double alpha : {0.01, 0.1, 1.0})
     for (double h : {0.2, 0.05}) {
-      const auto tr = trajectory<schemes::La>(h, alpha, 400);
+      const auto tr = trajectory<Osc::La>(h, alpha, 400);
       double worst = 0;
       for (size_t j = 1; j + 1 < tr.size(); ++j) {
         // D1 L_d(q_j, q_{j+1}) + D2 L_d(q_{j-1}, q_j) + F_d^-(q_j, q_{j+1}) = 0, with F_d^- = -alpha (q_{j+1} - q_j)
@@ -62,20 +71,20 @@ TEST_CASE("LA step satisfies the forced discrete Euler-Lagrange equations (1), A
       CHECK(worst < 1e-13);
       // the scheme's own residual agrees
       for (size_t j = 1; j + 1 < tr.size(); ++j)
-        CHECK(std::abs(schemes::La::residual(tr[j - 1].q, tr[j].q, tr[j + 1].q, h, alpha)) < 1e-13);
+        CHECK(std::abs(testing::la_residual(tr[j - 1].q, tr[j].q, tr[j + 1].q, h, alpha)) < 1e-13);
     }
 }
 
 TEST_CASE("LA momentum is the discrete Legendre transform: p_j = D2 L_d(q_{j-1}, q_j)", "[oscillator][la]") {
   const double h = 0.1, alpha = 0.3;
-  const auto tr = trajectory<schemes::La>(h, alpha, 100);
+  const auto tr = trajectory<Osc::La>(h, alpha, 100);
   for (size_t j = 1; j < tr.size(); ++j) CHECK(tr[j].p == Approx(grad_la(tr[j - 1].q, tr[j].q, h)(1)).epsilon(1e-13));
 }
 
 TEST_CASE("contact step equals eq. (10) as printed and solves the discrete Herglotz equations", "[oscillator][contact]") {
   for (double alpha : {0.01, 0.1, 1.0})
     for (double h : {0.2, 0.05}) {
-      const auto tr = trajectory<schemes::Contact>(h, alpha, 400);
+      const auto tr = trajectory<Osc::Contact>(h, alpha, 400);
       double worst10 = 0, worst_h = 0, worst_z = 0;
       for (size_t j = 1; j < tr.size(); ++j) {
         // eq. (10) literally
@@ -102,15 +111,15 @@ TEST_CASE("contact step equals eq. (10) as printed and solves the discrete Hergl
 TEST_CASE("one step of each scheme against a hand-written restatement", "[oscillator]") {
   const double h = 0.1, alpha = 0.1, q = -0.25, p = 0.75;
   OscState<double> s{q, p, 0};
-  schemes::La::step(s, h, alpha);
+  Osc::La::step(s, h, alpha);
   // forced DEL in position-momentum form, derived: p1 = (p0 - h q0)/(1 + h alpha)
   CHECK(s.p == Approx((0.75 + 0.025) / 1.01).epsilon(1e-15));
   CHECK(s.q == Approx(-0.25 + 0.1 * (0.775 / 1.01)).epsilon(1e-15));
   OscState<double> r{q, p, 0};
-  schemes::LaPrinted::step(r, h, alpha);
+  Osc::LaPrinted::step(r, h, alpha);
   CHECK(r.p == Approx(0.775 / 1.1).epsilon(1e-15));  // eq. (7) as printed: 1 + alpha
   OscState<double> c{q, p, 0};
-  schemes::Contact::step(c, h, alpha);
+  Osc::Contact::step(c, h, alpha);
   CHECK(c.q == Approx(0.995 * -0.25 + 0.1 * 0.99 * 0.75).epsilon(1e-15));
   CHECK(c.p == Approx(0.99 * 0.75 - 0.05 * (c.q - 0.25)).epsilon(1e-15));
 }
@@ -119,9 +128,8 @@ TEST_CASE("fitted orders against the closed-form solution", "[oscillator][order]
   const auto hs = halving_sequence(0.2, 0.003);
   REQUIRE(hs.size() >= 7);
   auto fitted = [&](const std::string& name, double alpha) {
-    const auto& s = find_oscillator_scheme(name);
     std::vector<double> e;
-    for (double h : hs) e.push_back(s.max_error({alpha, -0.25, 0.75, 50}, h));
+    for (double h : hs) e.push_back(max_error(name, alpha, h));
     return fit_order(hs, e);
   };
   // Tolerance 0.1 on the slope: the fits over 8 halvings of a first-order method land within 0.05 of 1
@@ -140,10 +148,9 @@ TEST_CASE("fitted orders against the closed-form solution", "[oscillator][order]
 
 TEST_CASE("eq. (7) as printed does not converge", "[oscillator][la-printed]") {
   const auto hs = halving_sequence(0.2, 0.003);
-  const auto& s = find_oscillator_scheme("la-printed");
   for (double alpha : {0.01, 0.1, 1.0}) {
     std::vector<double> e;
-    for (double h : hs) e.push_back(s.max_error({alpha, -0.25, 0.75, 50}, h));
+    for (double h : hs) e.push_back(max_error("la-printed", alpha, h));
     INFO("alpha " << alpha);
     CHECK(std::abs(fit_order(hs, e).slope) < 0.3);  // no convergence: error flat in h
     CHECK(e.back() > 0.1);                            // and O(1) at the smallest h
@@ -154,8 +161,8 @@ TEST_CASE("long double runs the same scheme and agrees with double to round-off"
   OscState<double> d{-0.25, 0.75, 0};
   OscState<long double> l{-0.25L, 0.75L, 0};
   for (int j = 0; j < 5000; ++j) {
-    schemes::Contact::step(d, 0.01, 0.1);
-    schemes::Contact::step(l, 0.01L, 0.1L);
+    Osc::Contact::step(d, 0.01, 0.1);
+    Osc::Contact::step(l, 0.01L, 0.1L);
   }
   // 5000 steps of a contracting map: accumulated round-off stays ~1e-13.
   CHECK(std::abs(static_cast<long double>(d.q) - l.q) < 1e-12L);
@@ -165,9 +172,9 @@ TEST_CASE("long double runs the same scheme and agrees with double to round-off"
 TEST_CASE("second-order comparators: defining equations and order 2", "[oscillator][second-order]") {
   const double h = 0.1, alpha = 0.4;
   // midpoint forced DEL, AD-free literal restatement through the scheme's residual
-  const auto tm = trajectory<schemes::LaMidpoint>(h, alpha, 300);
+  const auto tm = trajectory<Osc::LaMidpoint>(h, alpha, 300);
   for (size_t j = 1; j + 1 < tm.size(); ++j)
-    CHECK(std::abs(schemes::LaMidpoint::residual(tm[j - 1].q, tm[j].q, tm[j + 1].q, h, alpha)) < 1e-14);
+    CHECK(std::abs(testing::la_midpoint_residual(tm[j - 1].q, tm[j].q, tm[j + 1].q, h, alpha)) < 1e-14);
   // symmetric contact: L_d(q0, q1, z0) defined implicitly by z1 = z0 + h[v^2/2 - (q0^2+q1^2)/4 - alpha (z0+z1)/2];
   // solved for z1 it is linear, so the AD of the solved form is the literal definition.
   auto Ld = [&](AD q0, AD q1, AD z0) -> AD {
@@ -175,7 +182,7 @@ TEST_CASE("second-order comparators: defining equations and order 2", "[oscillat
     AD A = v * v / 2 - (q0 * q0 + q1 * q1) / 4;
     return h * (A - alpha * z0) / (1 + h * alpha / 2);
   };
-  const auto tc = trajectory<schemes::ContactSymmetric>(h, alpha, 300);
+  const auto tc = trajectory<Osc::ContactSymmetric>(h, alpha, 300);
   for (size_t j = 1; j + 1 < tc.size(); ++j) {
     const auto gj = Ld(AD(tc[j].q, 3, 0), AD(tc[j + 1].q, 3, 1), AD(tc[j].z, 3, 2)).derivatives();
     const auto gm = Ld(AD(tc[j - 1].q, 3, 0), AD(tc[j].q, 3, 1), AD(tc[j - 1].z, 3, 2)).derivatives();
@@ -190,7 +197,7 @@ TEST_CASE("second-order comparators: defining equations and order 2", "[oscillat
   for (const char* name : {"la-midpoint", "contact-sym"})
     for (double a : {0.01, 0.1, 1.0}) {
       std::vector<double> e;
-      for (double hh : hs) e.push_back(find_oscillator_scheme(name).max_error({a, -0.25, 0.75, 50}, hh));
+      for (double hh : hs) e.push_back(max_error(name, a, hh));
       INFO(name << " alpha " << a);
       CHECK(fit_order(hs, e).slope == Approx(2).margin(0.05));
     }

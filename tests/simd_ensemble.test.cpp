@@ -7,8 +7,7 @@
 
 #include "geomint/ensemble.hpp"
 #include "geomint/foucault_ensemble.hpp"
-#include "geomint/oscillator_schemes.hpp"
-#include "geomint/schemes/conformal_strang.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/simd.hpp"
 
 using namespace geomint;
@@ -33,7 +32,7 @@ void check_oscillator(double h, double alpha) {
     }
     return e;
   };
-  // the reference: OscState and Scheme::step, trajectory by trajectory, as integrate_const runs them
+  // the reference: OscState and Scheme::step, trajectory by trajectory, as the oscillator's run_fast runs them
   OscEnsemble ref = init();
   for (std::size_t i = 0; i < M; ++i) {
     OscState<double> s{ref.q[i], ref.p[i], ref.z[i]};
@@ -58,16 +57,16 @@ void check_oscillator(double h, double alpha) {
 TEST_CASE("oscillator ensembles: every width and thread count gives the scalar path's bits", "[simd]") {
   INFO("widths on this CPU: best " << to_string(best_simd()));
   for (double alpha : {0.01, 1.0}) {
-    check_oscillator<schemes::La>(0.1, alpha);
-    check_oscillator<schemes::LaPrinted>(0.1, alpha);
-    check_oscillator<schemes::Contact>(0.1, alpha);
-    check_oscillator<schemes::Leapfrog>(0.1, alpha);
-    check_oscillator<schemes::LaMidpoint>(0.1, alpha);
-    check_oscillator<schemes::ContactSymmetric>(0.1, alpha);
-    check_oscillator<schemes::ConformalStrang>(0.1, alpha);
+    check_oscillator<systems::Oscillator::La>(0.1, alpha);
+    check_oscillator<systems::Oscillator::LaPrinted>(0.1, alpha);
+    check_oscillator<systems::Oscillator::Contact>(0.1, alpha);
+    check_oscillator<systems::Oscillator::Leapfrog>(0.1, alpha);
+    check_oscillator<systems::Oscillator::LaMidpoint>(0.1, alpha);
+    check_oscillator<systems::Oscillator::ContactSymmetric>(0.1, alpha);
+    check_oscillator<systems::Oscillator::ConformalStrang>(0.1, alpha);
   }
   // decaying into subnormals (alpha = 1, long run) must not change the bits either
-  check_oscillator<schemes::Contact>(0.5, 1.0);
+  check_oscillator<systems::Oscillator::Contact>(0.5, 1.0);
 }
 
 TEST_CASE("the machine's widest vectors are used when asked for", "[simd]") {
@@ -79,11 +78,11 @@ TEST_CASE("the machine's widest vectors are used when asked for", "[simd]") {
 }
 
 TEST_CASE("Foucault anomaly ensembles: every width and thread count gives the per-run path's bits", "[simd][foucault]") {
-  FoucaultScene base;
+  systems::FoucaultPendulum base;
   base.T = 400;  // 4000 and 8000 steps: ~50 passes through the origin, 62 and 125 rotation anchors
   // 140 runs per cell: one full batch of 128 lanes and a partial one (12 lanes, stepped as 16)
   const auto cases = anomaly_cases({0.1, 0.05}, {1e-3, 1e-4}, {"la-nh", "contact-nh"},
-                                   {FoucaultConstraint::paper, FoucaultConstraint::rotation}, 140);
+                                   {systems::Foucault::name, systems::FoucaultRotation::name}, 140);
   const double threshold = 0.01 * foucault_pi / 180;
   const auto ref = run_anomaly_ensemble(base, cases, threshold, 1, {}, Simd::scalar);
   long jumps = 0, turns = 0;
@@ -108,11 +107,11 @@ TEST_CASE("Foucault anomaly ensembles: every width and thread count gives the pe
 
 TEST_CASE("Foucault ensembles: a failing run fails at the same step with the same message at every width",
           "[simd][foucault]") {
-  FoucaultScene base;
+  systems::FoucaultPendulum base;
   base.T = 200;
   // contact with h alpha = 3: the (1 - h alpha) factor of (18) is -2, the run overflows after ~1000 steps
   const auto cases = anomaly_cases({0.1}, {30.0}, {"contact-nh"},
-                                   {FoucaultConstraint::paper, FoucaultConstraint::rotation}, 5);
+                                   {systems::Foucault::name, systems::FoucaultRotation::name}, 5);
   const auto ref = run_anomaly_ensemble(base, cases, 0.1, 1, {}, Simd::scalar);
   for (const auto& r : ref) {
     INFO(r.status);

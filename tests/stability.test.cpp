@@ -91,7 +91,7 @@ TEST_CASE("the generic linear-map classification reproduces the oscillator maps 
     for (double h : {0.013, 0.1, 0.5, 1.3, 1.95, 2.2, 4.0, 9.0})
       for (double a : {0.002, 0.05, 0.3, 1.0, 1.9, 2.5, 7.0}) {
         const ParamValues pv{{"alpha", a}};
-        const auto M = osc.one_step_matrix(pv, gen, h);
+        const auto M = osc.one_step_matrix(pv, gen, h, Path::generic);
         const auto C = osc.continuous_matrix(pv);
         const auto g = classify_linear_map(M, C, 2, h);
         const AllOrders m = all_orders_by_name(closed, h, a);
@@ -116,7 +116,7 @@ TEST_CASE("the coupled oscillators' generator has the two modes' eigenvalues", "
   const auto& sys = find_system("coupled-oscillators");
   const double a = 0.3, k = 4;
   const auto C = sys.continuous_matrix({{"alpha", a}, {"kappa", k}});
-  const auto M = sys.one_step_matrix({{"alpha", a}, {"kappa", k}}, "la-trapezoid", 1e-3);
+  const auto M = sys.one_step_matrix({{"alpha", a}, {"kappa", k}}, "la-trapezoid", 1e-3, Path::generic);
   const auto c = classify_linear_map(M, C, 4, 1e-3);
   CHECK(c.region == Region::faithful);
   // a small step resolves both modes: frequency ratios 1 + O(h^2), contraction rate exact to O(h^2)
@@ -124,9 +124,9 @@ TEST_CASE("the coupled oscillators' generator has the two modes' eigenvalues", "
   CHECK(c.freq_high == Approx(1).epsilon(1e-5));
   CHECK(c.decay_ratio == Approx(1).epsilon(1e-5));
   // the stiff mode (frequency 3) makes Stormer-Verlet unstable beyond h = 2/3
-  CHECK(classify_linear_map(sys.one_step_matrix({{"alpha", 0.0}, {"kappa", k}}, "la-trapezoid", 0.66), C, 4, 0.66).region !=
+  CHECK(classify_linear_map(sys.one_step_matrix({{"alpha", 0.0}, {"kappa", k}}, "la-trapezoid", 0.66, Path::generic), C, 4, 0.66).region !=
         Region::unstable);
-  CHECK(classify_linear_map(sys.one_step_matrix({{"alpha", 0.0}, {"kappa", k}}, "la-trapezoid", 0.68), C, 4, 0.68).region ==
+  CHECK(classify_linear_map(sys.one_step_matrix({{"alpha", 0.0}, {"kappa", k}}, "la-trapezoid", 0.68, Path::generic), C, 4, 0.68).region ==
         Region::unstable);
-  CHECK_THROWS_WITH(find_system("pendulum").one_step_matrix({}, "la", 0.1), Catch::Contains("needs a linear system"));
+  CHECK_THROWS_WITH(find_system("pendulum").one_step_matrix({}, "la", 0.1, Path::generic), Catch::Contains("needs a linear system"));
 }

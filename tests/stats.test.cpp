@@ -55,8 +55,8 @@ TEST_CASE("standard error of a mean", "[stats]") {
 }
 
 TEST_CASE("the anomaly summary carries intervals around every probability and errors of every mean", "[stats][foucault]") {
-  FoucaultScene base;  // the hour of the paper: P(jump > 1 deg) ~ 0.26 per run at h = 0.1
-  const auto runs = run_anomaly_ensemble(base, anomaly_cases({0.1}, {1e-3}, {"contact-nh"}, {FoucaultConstraint::paper}, 40),
+  systems::FoucaultPendulum base;  // the hour of the paper: P(jump > 1 deg) ~ 0.26 per run at h = 0.1
+  const auto runs = run_anomaly_ensemble(base, anomaly_cases({0.1}, {1e-3}, {"contact-nh"}, {systems::Foucault::name}, 40),
                                          0.1 * foucault_pi / 180, 2);
   const auto cells = summarize_anomaly(base, runs, 0.1 * foucault_pi / 180);
   REQUIRE(cells.size() == 1);

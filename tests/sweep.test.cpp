@@ -90,9 +90,9 @@ TEST_CASE("parallel_for runs every item exactly once on any thread count, and re
 }
 
 TEST_CASE("rows pack and unpack bit-exactly, and a short row is refused", "[sweep]") {
-  FoucaultScene base;
+  systems::FoucaultPendulum base;
   base.T = 200;
-  const auto runs = run_anomaly_ensemble(base, anomaly_cases({0.1}, {1e-4}, {"la-nh"}, {FoucaultConstraint::paper}, 5),
+  const auto runs = run_anomaly_ensemble(base, anomaly_cases({0.1}, {1e-4}, {"la-nh"}, {systems::Foucault::name}, 5),
                                          0.001, 1);
   long jumps = 0;
   for (const auto& r : runs) {

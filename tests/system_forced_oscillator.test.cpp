@@ -26,15 +26,15 @@ struct NotAutonomous : systems::ForcedOscillator {  // linear, but its forcing d
 };
 }  // namespace
 
-TEST_CASE("a linear system that wrongly declares itself autonomous is caught by the step map's check", "[generic][newton]") {
-  // Declared autonomous, the stepper builds one affine step map at the first lane step and ignores the forcing's
+TEST_CASE("a linear system that wrongly declares itself autonomous is caught by the affine step map's check", "[generic][newton]") {
+  // Declared autonomous, the stepper builds one affine step map at the first single-update step and ignores the forcing's
   // time dependence from then on; the full Newton re-solve of every 256th step finds the residual above round-off.
   NotAutonomous sys;
   generic::Stepper<NotAutonomous, generic::LaLeft> st(sys, 0.1);
   st.start(sys.initial_position<double>(), sys.initial_velocity<double>());
   CHECK_THROWS_WITH([&] { for (int j = 0; j < 600; ++j) st.step(); }(),
                     Catch::Contains("declares itself linear and autonomous"));
-  // the same system as declared (not autonomous) runs the one-evaluation lane at round-off
+  // the same system as declared (not autonomous) runs the single-update path at round-off
   const systems::ForcedOscillator ok;
   generic::Stepper<systems::ForcedOscillator, generic::LaLeft> so(ok, 0.1);
   so.start(ok.initial_position<double>(), ok.initial_velocity<double>());

@@ -6,6 +6,7 @@
 #include "generic_checks.hpp"
 #include "geomint/generic/schemes.hpp"
 #include "geomint/systems/foucault.hpp"
+#include "paper_restatements.hpp"
 
 using namespace geomint;
 using namespace geomint::testing;
@@ -15,28 +16,30 @@ TEST_CASE("generic nonholonomic residuals on the Foucault pendulum are (15) and 
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(-1, 1);
   systems::Foucault sys;
-  sys.scene.alpha = 0.05;
-  sys.scene.Omega = 0.1;  // a large s, so the constraint terms are not lost in round-off
-  const FoucaultParams<double> p(sys.scene);
+  sys.alpha = 0.05;
+  sys.Omega = 0.1;  // a large s, so the constraint terms are not lost in round-off
+  const FoucaultParams<double> p(sys);
+  const Literal P(sys);
   for (int k = 0; k < 100; ++k) {
     const double h = 0.1;
     const V2 qm(u(rng), u(rng)), q(u(rng), u(rng)), qp(u(rng), u(rng));
     const double lambda1 = u(rng);
     // (15): rows 1-2 are (D1 L_d + D2 L_d + F_d^- - lambda A) / m with the generic lambda = lambda_1
-    const auto la15 = schemes::LaNh::residual(p, qm, q, qp, lambda1, h);
+    double la15[3], c18[3], scale[3];
+    la_rows(P, h, qm, q, qp, lambda1, la15, scale);
     const V2 la = generic::LaLeft::residual(sys, 0.0, h, qm, q, qp, Vec<double, 1>(Vec<double, 1>::Constant(lambda1))) / p.m;
-    CHECK(la(0) == Approx(la15(0)).margin(1e-13));
-    CHECK(la(1) == Approx(la15(1)).margin(1e-13));
+    CHECK(la(0) == Approx(la15[0]).margin(1e-13));
+    CHECK(la(1) == Approx(la15[1]).margin(1e-13));
     // (18): rows 1-2 are the generic rows divided by m h, with the generic lambda = h lambda_1
-    const auto c18 = schemes::ContactNh::residual(p, qm, q, qp, lambda1, h);
+    contact_rows(P, h, qm, q, qp, lambda1, c18, scale);
     const V2 c = generic::ContactLeft::residual(sys, 0.0, h, qm, q, qp, 0.0, 0.0, 0.0,
                                                 Vec<double, 1>(Vec<double, 1>::Constant(h * lambda1))) / (p.m * h);
-    CHECK(c(0) == Approx(c18(0)).margin(1e-12));
-    CHECK(c(1) == Approx(c18(1)).margin(1e-12));
+    CHECK(c(0) == Approx(c18[0]).margin(1e-12));
+    CHECK(c(1) == Approx(c18[1]).margin(1e-12));
     // the third row of both: the discrete constraint (13) o Psi
     const double phid = generic::discrete_constraint<systems::Foucault, generic::la_quadrature::Left>(sys, 0.0, h, q, qp)(0);
-    CHECK(phid == Approx(la15(2)).margin(1e-14));
-    CHECK(phid == Approx(c18(2)).margin(1e-14));
+    CHECK(phid == Approx(la15[2]).margin(1e-14));
+    CHECK(phid == Approx(c18[2]).margin(1e-14));
   }
 }
 TEST_CASE("the Foucault steps (15), (18) follow the generic la and contact schemes, both constraints",
@@ -80,20 +83,20 @@ TEST_CASE("the generic position-momentum form accumulates less round-off than th
     WARN(Sys::name << " " << C::name << ": generic " << gen << ", closed form " << fast << " off long double");
   };
   systems::FoucaultRotation rot;
-  rot.scene.alpha = 0.1;
-  measure(rot, generic::LaLeft{}, schemes::LaNh{}, 0.025, 160);
-  measure(rot, generic::ContactLeft{}, schemes::ContactNh{}, 0.025, 160);
+  rot.alpha = 0.1;
+  measure(rot, generic::LaLeft{}, systems::FoucaultPendulum::La{}, 0.025, 160);
+  measure(rot, generic::ContactLeft{}, systems::FoucaultPendulum::Contact{}, 0.025, 160);
   systems::Foucault paper;
-  measure(paper, generic::LaLeft{}, schemes::LaNh{}, 0.1, 1000);
+  measure(paper, generic::LaLeft{}, systems::FoucaultPendulum::La{}, 0.1, 1000);
 }
 TEST_CASE("foucault: equations derived from L and (13) equal the multiplier ODE", "[generic][equations]") {
   systems::Foucault f;
-  f.scene.Omega = 0.05;  // a visible constraint force
+  f.Omega = 0.05;  // a visible constraint force
   check_equations(f);
 }
 
 TEST_CASE("foucault: the closed form solves the equations derived from L and (13)", "[generic][equations]") {
   systems::Foucault fo;
-  fo.scene.alpha = 0.1;
+  fo.alpha = 0.1;
   for (double t : {1.0, 30.0}) check_exact_solves(fo, t);
 }

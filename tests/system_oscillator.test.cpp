@@ -5,6 +5,7 @@
 #include "generic_checks.hpp"
 #include "geomint/generic/schemes.hpp"
 #include "geomint/systems/oscillator.hpp"
+#include "paper_restatements.hpp"
 
 using namespace geomint;
 using namespace geomint::testing;
@@ -22,15 +23,15 @@ TEST_CASE("generic LA residuals on the oscillator are the closed forms' defining
     sys.alpha = std::abs(u(rng));
     const double h = 0.05 + 0.2 * std::abs(u(rng)), qm = u(rng), q = u(rng), qp = u(rng);
     const Vec<double, 0> none;
-    // (1) with the left quadrature is schemes::La's residual (the derivation of (7)), the midpoint one LaMidpoint's
+    // (1) with the left quadrature is la's residual (the derivation of (7)), the midpoint one la-midpoint's
     CHECK(generic::LaLeft::residual(sys, 0.0, h, v1(qm), v1(q), v1(qp), none)(0) ==
-          Approx(schemes::La::residual(qm, q, qp, h, sys.alpha)).margin(1e-14));
+          Approx(testing::la_residual(qm, q, qp, h, sys.alpha)).margin(1e-14));
     CHECK(generic::LaMidpoint::residual(sys, 0.0, h, v1(qm), v1(q), v1(qp), none)(0) ==
-          Approx(schemes::LaMidpoint::residual(qm, q, qp, h, sys.alpha)).margin(1e-14));
+          Approx(testing::la_midpoint_residual(qm, q, qp, h, sys.alpha)).margin(1e-14));
     // the contact residual (3) with the paper's quadrature: D1 L_d + D2 L_d (1 + D3 L_d), D3 L_d = -h alpha
     const double z = u(rng);
     CHECK(generic::ContactLeft::residual(sys, 0.0, h, v1(qm), v1(q), v1(qp), z, z, z, none)(0) ==
-          Approx(schemes::Contact::residual(qm, q, qp, h, sys.alpha)).margin(1e-14));
+          Approx(testing::contact_residual(qm, q, qp, h, sys.alpha)).margin(1e-14));
   }
 }
 

@@ -19,15 +19,15 @@ struct NotLinear : systems::Pendulum {
 };
 }  // namespace
 
-TEST_CASE("a system that wrongly declares itself linear is caught by the linear lane's check", "[generic][newton]") {
-  // The pendulum is not linear; declared so, the stepper takes one Newton update per step (the linear lane) and
+TEST_CASE("a system that wrongly declares itself linear is caught by the single-update path's check", "[generic][newton]") {
+  // The pendulum is not linear; declared so, the stepper takes one Newton update per step (the single-update path) and
   // its periodic check finds the residual above round-off.
   NotLinear sys;
   sys.q0 = 2.5;  // large swings: strongly nonlinear
   generic::Stepper<NotLinear, generic::LaMidpoint> st(sys, 0.1);
   st.start(sys.initial_position<double>(), sys.initial_velocity<double>());
   CHECK_THROWS_WITH([&] { for (int j = 0; j < 2000; ++j) st.step(); }(), Catch::Contains("declares itself linear"));
-  // the oscillator, which is linear, runs through the lane with its residual at round-off at every check
+  // the oscillator, which is linear, runs the single-update path with its residual at round-off at every check
   systems::Oscillator osc;
   generic::Stepper<systems::Oscillator, generic::ContactLeft> so(osc, 0.1);
   so.start(osc.initial_position<double>(), osc.initial_velocity<double>());

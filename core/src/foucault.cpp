@@ -1,38 +1,16 @@
-#include "geomint/foucault.hpp"
-
-#include "geomint/io.hpp"
+// The out-of-line parts of the Foucault pendulum's systems (core/include/geomint/systems/foucault.hpp).
+#include "geomint/systems/foucault.hpp"
 
 #include <cmath>
-#include <sstream>
 
-#include <gsl/gsl_fit.h>
-
+#include "geomint/io.hpp"
 #include "geomint/reference.hpp"
 
 namespace geomint {
 
-void validate_foucault_sweep(const FoucaultScene& base, const std::vector<double>& hs, const std::vector<double>& alphas) {
-  require(!hs.empty(), "give at least one h");
-  require(!alphas.empty(), "give at least one alpha");
-  for (double h : hs) step_count(h, base.T);
-  for (double a : alphas) {
-    FoucaultScene sc = base;
-    sc.alpha = a;
-    sc.validate();
-  }
-}
+namespace systems {
 
-std::vector<std::pair<std::string, std::string>> foucault_scene_params(const FoucaultScene& sc) {
-  return {{"m", format_number(sc.m)},
-          {"l", format_number(sc.l)},
-          {"g", format_number(sc.g)},
-          {"beta_deg", format_number(sc.beta_deg)},
-          {"Omega", format_number(sc.Omega)},
-          {"q0", format_number(sc.x0) + "," + format_number(sc.y0)},
-          {"v0", format_number(sc.vx0) + "," + format_number(sc.vy0)}};
-}
-
-void FoucaultScene::validate() const {
+void FoucaultPendulum::validate() const {
   require_positive(m, "m");
   require_positive(l, "l");
   require_positive(g, "g");
@@ -48,7 +26,31 @@ void FoucaultScene::validate() const {
   require_positive(T, "T");
 }
 
-double FoucaultScene::s() const { return Omega * std::sin(beta_deg * foucault_pi / 180); }
+double FoucaultPendulum::s() const { return Omega * std::sin(beta_deg * foucault_pi / 180); }
+
+std::vector<std::pair<std::string, std::string>> FoucaultPendulum::header_params() const {
+  return {{"m", format_number(m)},
+          {"l", format_number(l)},
+          {"g", format_number(g)},
+          {"beta_deg", format_number(beta_deg)},
+          {"Omega", format_number(Omega)},
+          {"q0", format_number(x0) + "," + format_number(y0)},
+          {"v0", format_number(vx0) + "," + format_number(vy0)}};
+}
+
+}  // namespace systems
+
+void validate_foucault_sweep(const systems::FoucaultPendulum& base, const std::vector<double>& hs,
+                             const std::vector<double>& alphas) {
+  require(!hs.empty(), "give at least one h");
+  require(!alphas.empty(), "give at least one alpha");
+  for (double h : hs) step_count(h, base.T);
+  for (double a : alphas) {
+    systems::FoucaultPendulum sc = base;
+    sc.alpha = a;
+    sc.validate();
+  }
+}
 
 FoucaultStart parse_foucault_start(const std::string& name) {
   if (name == "legendre") return FoucaultStart::legendre;
@@ -58,62 +60,15 @@ FoucaultStart parse_foucault_start(const std::string& name) {
 
 const char* to_string(FoucaultStart s) { return s == FoucaultStart::legendre ? "legendre" : "taylor"; }
 
-FoucaultConstraint parse_foucault_constraint(const std::string& name) {
-  if (name == "paper") return FoucaultConstraint::paper;
-  if (name == "rotation") return FoucaultConstraint::rotation;
-  throw InputError("unknown constraint discretization '" + name + "' (known: paper rotation)");
-}
-
-const char* to_string(FoucaultConstraint c) { return c == FoucaultConstraint::paper ? "paper" : "rotation"; }
-
-const std::vector<std::string>& foucault_scheme_names() {
-  static const std::vector<std::string> names{schemes::LaNh::name, schemes::ContactNh::name};
-  return names;
-}
-
-double fit_precession_rate(const std::vector<FoucaultTurn>& turns, int* points) {
-  std::vector<double> t, a;
-  for (const auto& k : turns)
-    if (std::isfinite(k.angle)) {
-      t.push_back(k.t);
-      a.push_back(k.angle);
-    }
-  if (points) *points = static_cast<int>(t.size());
-  if (t.size() < 3) return std::nan("");
-  double c0, c1, cov00, cov01, cov11, sumsq;
-  gsl_fit_linear(t.data(), 1, a.data(), 1, t.size(), &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
-  return c1;
-}
-
-FoucaultRun run_foucault(const std::string& scheme, const FoucaultScene& scene, double h, FoucaultStart start,
-                         long sample_every, FoucaultConstraint constraint) {
-  scene.validate();
-  const long N = step_count(h, scene.T);
-  require(sample_every >= 1, "sample_every must be a positive integer");
-  return visit_foucault_scheme(scheme, [&](auto s) {
-    using Scheme = decltype(s);
-    const FoucaultParams<double> p(scene);
-    const Vec2<double> q0(scene.x0, scene.y0), v0(scene.vx0, scene.vy0);
-    FoucaultDiagnostics<double> diag(p, h, N, sample_every, q0, v0);
-    integrate_foucault<Scheme>(p, q0, v0, h, N, start, diag, constraint);
-    FoucaultRun run;
-    run.summary = diag.summary();
-    run.samples = std::move(diag.samples);
-    run.turns = std::move(diag.turns);
-    return run;
-  });
-}
-
-std::vector<std::array<double, 4>> foucault_reference(const FoucaultScene& scene, const std::vector<double>& times,
-                                                      double tol) {
+std::vector<std::array<double, 4>> foucault_reference(const systems::FoucaultPendulum& scene,
+                                                      const std::vector<double>& times, double tol) {
   scene.validate();
   require_positive(tol, "tol");
   const FoucaultParams<double> p(scene);
   const Vec2<double> q0(scene.x0, scene.y0);
   const Vec2<double> v0 = consistent_velocity(p, q0, Vec2<double>(scene.vx0, scene.vy0));
   using State = std::array<double, 4>;
-  return odeint_dense<4>(FoucaultMultiplierOde(p),
-      State{q0(0), q0(1), v0(0), v0(1)}, times, tol);
+  return odeint_dense<4>(FoucaultMultiplierOde(p), State{q0(0), q0(1), v0(0), v0(1)}, times, tol);
 }
 
 }  // namespace geomint

@@ -40,7 +40,7 @@ bool same(const FoucaultJump& a, const FoucaultJump& b) {
 
 bool same_bits(const AnomalyRun& a, const AnomalyRun& b) {
   const AnomalySummary &x = a.summary, &y = b.summary;
-  if (!(a.c.scheme == b.c.scheme && a.c.constraint == b.c.constraint && same(a.c.alpha, b.c.alpha) &&
+  if (!(a.c.scheme == b.c.scheme && a.c.system == b.c.system && same(a.c.alpha, b.c.alpha) &&
         same(a.c.h, b.c.h) && same(a.c.tau, b.c.tau) && a.c.run == b.c.run && a.status == b.status &&
         a.steps == b.steps && same(a.phi0, b.phi0) && same(a.energy_ratio_exact, b.energy_ratio_exact)))
     return false;
@@ -58,7 +58,7 @@ bool same_bits(const AnomalyRun& a, const AnomalyRun& b) {
 std::string pack(const AnomalyRun& r) {
   static_assert(std::is_trivially_copyable_v<AnomalySummary> && std::is_trivially_copyable_v<FoucaultJump>);
   RowWriter w;
-  w.put(r.c.scheme).put(r.c.constraint).put(r.c.alpha).put(r.c.h).put(r.c.tau).put(r.c.run);
+  w.put(r.c.scheme).put(r.c.system).put(r.c.alpha).put(r.c.h).put(r.c.tau).put(r.c.run);
   w.put(r.status).put(r.steps).put(r.phi0).put(r.energy_ratio_exact).put(r.summary).put(r.jumps);
   return std::move(w).str();
 }
@@ -66,7 +66,7 @@ std::string pack(const AnomalyRun& r) {
 AnomalyRun unpack_anomaly_run(const std::string& row) {
   AnomalyRun r;
   RowReader in(row);
-  in.get(r.c.scheme).get(r.c.constraint).get(r.c.alpha).get(r.c.h).get(r.c.tau).get(r.c.run);
+  in.get(r.c.scheme).get(r.c.system).get(r.c.alpha).get(r.c.h).get(r.c.tau).get(r.c.run);
   in.get(r.status).get(r.steps).get(r.phi0).get(r.energy_ratio_exact).get(r.summary).get(r.jumps);
   if (!in.done()) throw std::runtime_error("unpack_anomaly_run: trailing bytes");
   return r;
@@ -81,8 +81,8 @@ const char* to_string(Precision p) {
   return "?";
 }
 
-FoucaultScene anomaly_scene(const FoucaultScene& base, double alpha, double tau) {
-  FoucaultScene sc = base;
+systems::FoucaultPendulum anomaly_scene(const systems::FoucaultPendulum& base, double alpha, double tau) {
+  systems::FoucaultPendulum sc = base;
   sc.alpha = alpha;
   sc.validate();
   require(std::isfinite(tau) && tau >= 0, "tau must be a non-negative finite number");
@@ -104,8 +104,25 @@ Vec2<T> to_t(const Vec2<double>& v) {
   return Vec2<T>(T(v(0)), T(v(1)));
 }
 
+// Calls f(Sys{}, C{}) with the case's system and the closed form of its scheme there.
+template <class F>
+void visit_case(const AnomalyCase& c, F&& f) {
+  systems::visit_foucault_system(c.system, [&](auto s) {
+    using Sys = decltype(s);
+    generic::visit_closed_form<Sys>(c.scheme, [&](auto cf) { f(s, cf); });
+  });
+}
+
+// The system Sys with the scene's parameters.
+template <class Sys>
+Sys with_scene(const systems::FoucaultPendulum& sc) {
+  Sys sys;
+  static_cast<systems::FoucaultPendulum&>(sys) = sc;
+  return sys;
+}
+
 // The fields every run shares; `sc` is the run's scene (anomaly_scene).
-AnomalyRun prepare(const FoucaultScene& sc, const AnomalyCase& c) {
+AnomalyRun prepare(const systems::FoucaultPendulum& sc, const AnomalyCase& c) {
   AnomalyRun run;
   run.c = c;
   run.steps = step_count(c.h, sc.T);
@@ -117,33 +134,35 @@ AnomalyRun prepare(const FoucaultScene& sc, const AnomalyCase& c) {
 }
 
 template <class T>
-void run_in(const FoucaultScene& sc, AnomalyRun& run, double threshold, long stop) {
+void run_in(const systems::FoucaultPendulum& sc, AnomalyRun& run, double threshold, long stop) {
   const AnomalyCase& c = run.c;
   const FoucaultParams<T> p(sc);
   const Vec2<T> q0(T(sc.x0), T(sc.y0)), v0(T(sc.vx0), T(sc.vy0));
-  AnomalyDetector<T> det(p, T(c.h), stop, run.phi0, run.summary.E0, threshold, c.constraint);
-  visit_foucault_scheme(c.scheme, [&](auto s) {
-    integrate_foucault<decltype(s)>(p, q0, v0, T(c.h), stop, FoucaultStart::legendre, det, c.constraint);
+  visit_case(c, [&](auto s, auto cf) {
+    using Sys = decltype(s);
+    AnomalyDetector<Sys, T> det(p, T(c.h), stop, run.phi0, run.summary.E0, threshold);
+    systems::run_closed_form<decltype(cf)>(with_scene<Sys>(sc), p, q0, v0, T(c.h), stop, FoucaultStart::legendre, det);
+    run.summary = det.summary();
+    run.jumps = std::move(det.jumps);
   });
-  run.summary = det.summary();
-  run.jumps = std::move(det.jumps);
 }
 
 template <class T>
-void segment_in(const FoucaultScene& sc, AnomalyRun& run, double threshold, const Vec2<double>& qm,
+void segment_in(const systems::FoucaultPendulum& sc, AnomalyRun& run, double threshold, const Vec2<double>& qm,
                 const Vec2<double>& q, long j_from, long j_to) {
   const AnomalyCase& c = run.c;
   const FoucaultParams<T> p(sc);
-  AnomalyDetector<T> det(p, T(c.h), j_to, run.phi0, run.summary.E0, threshold, c.constraint);
-  visit_foucault_scheme(c.scheme, [&](auto s) {
-    integrate_foucault_steps<decltype(s)>(p, to_t<T>(qm), to_t<T>(q), j_from, j_to, T(c.h), c.constraint,
-                                          T(run.phi0), det);
+  visit_case(c, [&](auto s, auto cf) {
+    using Sys = decltype(s);
+    AnomalyDetector<Sys, T> det(p, T(c.h), j_to, run.phi0, run.summary.E0, threshold);
+    with_scene<Sys>(sc).template closed_steps<decltype(cf)>(p, to_t<T>(qm), to_t<T>(q), j_from, j_to, T(c.h),
+                                                            T(run.phi0), det);
+    run.summary = det.summary();
+    run.jumps = std::move(det.jumps);
   });
-  run.summary = det.summary();
-  run.jumps = std::move(det.jumps);
 }
 
-void finish(const FoucaultScene& sc, AnomalyRun& run) {
+void finish(const systems::FoucaultPendulum& sc, AnomalyRun& run) {
   if (run.status != "ok" || !std::isfinite(run.summary.t_end)) return;
   const FoucaultParams<double> p(sc);
   const Vec2<double> q0(sc.x0, sc.y0);
@@ -154,9 +173,9 @@ void finish(const FoucaultScene& sc, AnomalyRun& run) {
 
 }  // namespace
 
-AnomalyRun run_anomaly(const FoucaultScene& base, const AnomalyCase& c, double record_threshold, Precision precision,
+AnomalyRun run_anomaly(const systems::FoucaultPendulum& base, const AnomalyCase& c, double record_threshold, Precision precision,
                        long stop_step) {
-  const FoucaultScene sc = anomaly_scene(base, c.alpha, c.tau);
+  const systems::FoucaultPendulum sc = anomaly_scene(base, c.alpha, c.tau);
   AnomalyRun run = prepare(sc, c);
   const long stop = stop_step < 0 ? run.steps : std::min(stop_step, run.steps);
   try {
@@ -172,25 +191,24 @@ AnomalyRun run_anomaly(const FoucaultScene& base, const AnomalyCase& c, double r
   return run;
 }
 
-AnomalyRun rerun_anomaly_segment(const FoucaultScene& base, const AnomalyCase& c, double record_threshold,
+AnomalyRun rerun_anomaly_segment(const systems::FoucaultPendulum& base, const AnomalyCase& c, double record_threshold,
                                  Precision precision, long j_from, long j_to) {
-  const FoucaultScene sc = anomaly_scene(base, c.alpha, c.tau);
+  const systems::FoucaultPendulum sc = anomaly_scene(base, c.alpha, c.tau);
   AnomalyRun run = prepare(sc, c);
   require(j_from >= 1 && j_from < j_to && j_to <= run.steps, "segment must satisfy 1 <= j_from < j_to <= N");
   try {
     // the double state (q_{j_from-1}, q_{j_from}) of the same run
     Vec2<double> qm, q;
     const FoucaultParams<double> p(sc);
-    visit_foucault_scheme(c.scheme, [&](auto s) {
-      integrate_foucault<decltype(s)>(
-          p, Vec2<double>(sc.x0, sc.y0), Vec2<double>(sc.vx0, sc.vy0), c.h, j_from, FoucaultStart::legendre,
-          [&](const FoucaultStep<double>& st) {
+    visit_case(c, [&](auto s, auto cf) {
+      systems::run_closed_form<decltype(cf)>(
+          with_scene<decltype(s)>(sc), p, Vec2<double>(sc.x0, sc.y0), Vec2<double>(sc.vx0, sc.vy0), c.h, j_from,
+          FoucaultStart::legendre, [&](const FoucaultStep<double>& st) {
             if (st.j == j_from - 1) {
               qm = st.q;
               q = st.qn;
             }
-          },
-          c.constraint);
+          });
     });
     switch (precision) {
       case Precision::double_: segment_in<double>(sc, run, record_threshold, qm, q, j_from, j_to); break;
@@ -205,7 +223,7 @@ AnomalyRun rerun_anomaly_segment(const FoucaultScene& base, const AnomalyCase& c
 
 std::vector<AnomalyCase> anomaly_cases(const std::vector<double>& hs, const std::vector<double>& alphas,
                                        const std::vector<std::string>& schemes,
-                                       const std::vector<FoucaultConstraint>& constraints, long runs) {
+                                       const std::vector<std::string>& systems, long runs) {
   require(runs >= 1, "runs must be a positive integer");
   std::vector<double> sorted = hs;
   std::sort(sorted.begin(), sorted.end());
@@ -213,17 +231,17 @@ std::vector<AnomalyCase> anomaly_cases(const std::vector<double>& hs, const std:
   for (double h : sorted)
     for (double a : alphas)
       for (const auto& s : schemes)
-        for (auto c : constraints)
+        for (const auto& sys : systems)
           for (long k = 0; k < runs; ++k)
-            cases.push_back({s, c, a, h, h * (static_cast<double>(k) + 0.5) / static_cast<double>(runs), k});
+            cases.push_back({s, sys, a, h, h * (static_cast<double>(k) + 0.5) / static_cast<double>(runs), k});
   return cases;
 }
 
 namespace {
 
 // ---------------------------------------------------------------------------------------------------
-// The vectorized ensemble: up to kLanes runs of one cell (scheme, constraint, alpha, h; only tau differs)
-// stepped together in structure-of-arrays form. Per step and lane it does what integrate_foucault_steps and
+// The vectorized ensemble: up to kLanes runs of one cell (scheme, system, alpha, h; only tau differs)
+// stepped together in structure-of-arrays form. Per step and lane it does what the systems' closed_steps and
 // AnomalyDetector::operator() do per run — the scheme's own step_xy / step_rotation_xy, the landing and
 // turning-point tests — as straight-line code over doubles, which GCC vectorizes across lanes. What is rare
 // (a turning point, twice per 16.4 s swing; a failed step) is flagged and handled afterwards, lane by lane,
@@ -233,7 +251,9 @@ namespace {
 constexpr std::size_t kLanes = 128;  // ~22 KB of state per batch: resident in L1 (128 amortizes the per-step work 2-3 % better than 64)
 constexpr double kMax = std::numeric_limits<double>::max();
 
+template <class Sys>
 struct Batch {
+  static constexpr bool Paper = std::is_same_v<Sys, systems::Foucault>;  // else the rotation row
   // shared by every lane
   FoucaultParams<double> p;
   double h = 0;
@@ -249,7 +269,7 @@ struct Batch {
   alignas(64) double a0[kLanes], a1[kLanes], le0[kLanes], le1[kLanes], phi0[kLanes];
   alignas(64) double flag[kLanes];  // 1: turning point, 2: failed step, 3: both
   bool dead[kLanes];
-  std::vector<AnomalyDetector<double>> det;
+  std::vector<AnomalyDetector<Sys, double>> det;
   std::vector<std::string> status;
 
   explicit Batch(const FoucaultParams<double>& p_) : p(p_) {}
@@ -262,16 +282,16 @@ struct Batch {
 
   // Rare events of step j (after the lanes moved on: q_j is (xm, ym), q_{j+1} is (x, y)). Not inlined: it is
   // the scalar path's own code, compiled once for the baseline.
-  template <class Scheme, bool Paper>
+  template <class Scheme>
   __attribute__((noinline)) void events(long j) {
     for (std::size_t i = 0; i < n; ++i) {
       if (flag[i] == 0 || dead[i]) continue;
       if (flag[i] >= 2) {  // a failure, as the scalar path throws it, or only |q_{j+1}|^2 out of range
         try {
-          if (Paper) schemes::detail::require_solvable(xm[i] * xm[i] + ym[i] * ym[i], j);
+          if (Paper) systems::detail::require_solvable(xm[i] * xm[i] + ym[i] * ym[i], j);
           if (!std::isfinite(x[i]) || !std::isfinite(y[i])) throw state_failure(j);
           // q_{j+1} is finite but its square overflows: the paper step j + 1 will refuse it
-          if (Paper) schemes::detail::require_solvable(x[i] * x[i] + y[i] * y[i], j + 1);
+          if (Paper) systems::detail::require_solvable(x[i] * x[i] + y[i] * y[i], j + 1);
         } catch (const NumericalFailure& e) {
           status[i] = e.what();
           dead[i] = true;
@@ -304,8 +324,9 @@ struct Batch {
 
 // One step of every lane: the scheme's step, the landing and turning tests, the shift. Returns whether any
 // lane has an event. `b` is the index of e(phi_{j+1}) in the rotation table (rotation only).
-template <class Scheme, bool Paper>
-GEOMINT_KERNEL_INLINE std::int64_t batch_step(Batch& B, const RotationTable<double>& rot, long j, long b) {
+template <class Sys, class Scheme>
+GEOMINT_KERNEL_INLINE std::int64_t batch_step(Batch<Sys>& B, const RotationTable<double>& rot, long j, long b) {
+  constexpr bool Paper = Batch<Sys>::Paper;
   const FoucaultParams<double>& p = B.p;
   const double h = B.h, jd = static_cast<double>(j);
   const bool first = j == 0;
@@ -358,9 +379,10 @@ GEOMINT_KERNEL_INLINE std::int64_t batch_step(Batch& B, const RotationTable<doub
   return any;
 }
 
-template <class Scheme, bool Paper>
+template <class Sys, class Scheme>
 struct BatchKernel {
-  static GEOMINT_KERNEL_INLINE void run(Batch& B) {
+  static GEOMINT_KERNEL_INLINE void run(Batch<Sys>& B) {
+    constexpr bool Paper = Batch<Sys>::Paper;
     const RotationTable<double> rot(B.p.s, B.h);
     constexpr long K = RotationTable<double>::K;
     long b = 0;
@@ -371,25 +393,24 @@ struct BatchKernel {
         // (cos 0, -sin 0) = (1, -0), which returns (a0, a1) unchanged (a0 = cos(phi) is never zero).
         B.anchors(j);
       }
-      if (batch_step<Scheme, Paper>(B, rot, j, b)) B.events<Scheme, Paper>(j);
+      if (batch_step<Sys, Scheme>(B, rot, j, b)) B.template events<Scheme>(j);
     }
   }
 };
 
-// The lanes' start: the same scene, params and previous point as run_anomaly (prepare, integrate_foucault).
-template <class Scheme>
-void run_batch(const FoucaultScene& base, const AnomalyCase* cases, std::size_t n, double threshold, Simd simd,
+// The lanes' start: the same scene, params and previous point as run_anomaly (prepare, run_closed_form).
+template <class Sys, class Scheme>
+void run_batch(const systems::FoucaultPendulum& base, const AnomalyCase* cases, std::size_t n, double threshold, Simd simd,
                AnomalyRun* out) {
   const AnomalyCase& c0 = cases[0];
-  FoucaultScene sc0 = base;
+  systems::FoucaultPendulum sc0 = base;
   sc0.alpha = c0.alpha;
-  auto B = std::make_unique<Batch>(FoucaultParams<double>(sc0));
+  auto B = std::make_unique<Batch<Sys>>(FoucaultParams<double>(sc0));
   B->h = c0.h;
   B->n = n;
   B->width = std::min(kLanes, (n + 7) / 8 * 8);
   B->N = step_count(c0.h, base.T);
-  const bool paper = c0.constraint == FoucaultConstraint::paper;
-  std::vector<FoucaultScene> scenes(n);
+  std::vector<systems::FoucaultPendulum> scenes(n);
   B->det.reserve(n);
   B->status.assign(n, "ok");
   std::size_t first_ok = kLanes;
@@ -416,7 +437,7 @@ void run_batch(const FoucaultScene& base, const AnomalyCase* cases, std::size_t 
       out[i].status = e.what();
       B->dead[i] = true;
     }
-    B->det.emplace_back(B->p, c0.h, B->N, out[i].phi0, out[i].summary.E0, threshold, cases[i].constraint);
+    B->det.emplace_back(B->p, c0.h, B->N, out[i].phi0, out[i].summary.E0, threshold);
   }
   for (std::size_t i = 0; i < kLanes; ++i) {
     B->reset_landing(i);
@@ -425,10 +446,7 @@ void run_batch(const FoucaultScene& base, const AnomalyCase* cases, std::size_t 
     B->a1[i] = B->le1[i] = L.e(1);
   }
   if (first_ok == kLanes) return;  // every lane failed to start
-  if (paper)
-    simd_dispatch<BatchKernel<Scheme, true>>(simd, *B);
-  else
-    simd_dispatch<BatchKernel<Scheme, false>>(simd, *B);
+  simd_dispatch<BatchKernel<Sys, Scheme>>(simd, *B);
   for (std::size_t i = 0; i < n; ++i) {
     if (out[i].status != "ok") continue;  // failed to start
     if (B->dead[i]) {
@@ -445,12 +463,12 @@ void run_batch(const FoucaultScene& base, const AnomalyCase* cases, std::size_t 
 }
 
 bool same_cell(const AnomalyCase& a, const AnomalyCase& b) {
-  return a.scheme == b.scheme && a.constraint == b.constraint && a.alpha == b.alpha && a.h == b.h;
+  return a.scheme == b.scheme && a.system == b.system && a.alpha == b.alpha && a.h == b.h;
 }
 
 }  // namespace
 
-std::vector<AnomalyRun> run_anomaly_ensemble(const FoucaultScene& base, const std::vector<AnomalyCase>& cases,
+std::vector<AnomalyRun> run_anomaly_ensemble(const systems::FoucaultPendulum& base, const std::vector<AnomalyCase>& cases,
                                              double record_threshold, unsigned threads,
                                              const std::function<void(std::size_t, std::size_t)>& progress,
                                              Simd simd) {
@@ -479,8 +497,8 @@ std::vector<AnomalyRun> run_anomaly_ensemble(const FoucaultScene& base, const st
       } else {
         // an unknown scheme name fails every lane of its batch, as run_anomaly would fail each case
         try {
-          visit_foucault_scheme(cases[lo].scheme, [&](auto s) {
-            run_batch<decltype(s)>(base, &cases[lo], hi - lo, record_threshold, simd, &out[lo]);
+          visit_case(cases[lo], [&](auto s, auto cf) {
+            run_batch<decltype(s), decltype(cf)>(base, &cases[lo], hi - lo, record_threshold, simd, &out[lo]);
           });
         } catch (const std::exception& e) {
           for (std::size_t i = lo; i < hi; ++i) {
@@ -509,8 +527,8 @@ std::vector<AnomalyRun> run_anomaly_ensemble(const FoucaultScene& base, const st
   return out;
 }
 
-double predicted_jump_count(const FoucaultScene& base, double alpha, double h, double K) {
-  FoucaultScene sc = base;
+double predicted_jump_count(const systems::FoucaultPendulum& base, double alpha, double h, double K) {
+  systems::FoucaultPendulum sc = base;
   sc.alpha = alpha;
   const FoucaultParams<double> p(sc);
   const double wd2 = p.w2 - p.s * p.s - alpha * alpha / 4;
@@ -519,7 +537,7 @@ double predicted_jump_count(const FoucaultScene& base, double alpha, double h, d
   return passes * std::min(1.0, 2 * std::abs(p.s) * h / std::sin(K));
 }
 
-double predicted_jump_probability(const FoucaultScene& base, double alpha, double h, double K) {
+double predicted_jump_probability(const systems::FoucaultPendulum& base, double alpha, double h, double K) {
   return 1 - std::exp(-predicted_jump_count(base, alpha, h, K));
 }
 
@@ -533,18 +551,18 @@ double quantile(std::vector<double> v, double q) {
   return v[i] + (pos - static_cast<double>(i)) * (v[i + 1] - v[i]);
 }
 
-std::vector<AnomalyCell> summarize_anomaly(const FoucaultScene& base, const std::vector<AnomalyRun>& runs,
+std::vector<AnomalyCell> summarize_anomaly(const systems::FoucaultPendulum& base, const std::vector<AnomalyRun>& runs,
                                            double record_threshold) {
   constexpr double deg = 180 / foucault_pi;
-  // cells in first-seen order of (scheme, constraint, alpha, h) after sorting by those keys
-  std::map<std::tuple<std::string, int, double, double>, std::vector<const AnomalyRun*>> groups;
+  // cells in the order of (scheme, system, alpha, h) sorted by those keys ("foucault" before "foucault-rotation")
+  std::map<std::tuple<std::string, std::string, double, double>, std::vector<const AnomalyRun*>> groups;
   for (const auto& r : runs)
-    groups[{r.c.scheme, static_cast<int>(r.c.constraint), -r.c.alpha, -r.c.h}].push_back(&r);
+    groups[{r.c.scheme, r.c.system, -r.c.alpha, -r.c.h}].push_back(&r);
   std::vector<AnomalyCell> cells;
   for (const auto& [key, rs] : groups) {
     AnomalyCell c;
     c.scheme = std::get<0>(key);
-    c.constraint = static_cast<FoucaultConstraint>(std::get<1>(key));
+    c.system = std::get<1>(key);
     c.alpha = -std::get<2>(key);
     c.h = -std::get<3>(key);
     std::vector<double> plane;

@@ -37,7 +37,7 @@ const SystemInfo& find_system(const std::string& name) {
 
 const SchemeInfo& SystemInfo::scheme(const std::string& scheme_name) const {
   for (const auto& s : schemes)
-    if (s.name == scheme_name) return s;
+    if (s.named(scheme_name)) return s;
   std::string known;
   for (const auto& s : schemes) known += (known.empty() ? "" : ", ") + s.name;
   throw InputError("unknown scheme '" + scheme_name + "' for system '" + name + "' (known: " + known + ")");
@@ -61,8 +61,17 @@ std::vector<std::pair<std::string, std::string>> SystemInfo::header(const ParamV
 }
 
 std::string SchemeInfo::description() const {
-  return principle + ", " + quadrature + " quadrature, order " + std::to_string(order) +
-         (fast_path.empty() ? "" : "; closed form: " + fast_path);
+  std::string alias;
+  for (const auto& a : aliases) alias += (alias.empty() ? "" : ", ") + a;
+  return principle + (quadrature.empty() ? "" : ", " + quadrature + " quadrature") + ", order " + std::to_string(order) +
+         (fast_path.empty() ? "" : "; closed form: " + fast_path) + (alias.empty() ? "" : "; also named " + alias);
+}
+
+bool SchemeInfo::named(const std::string& n) const {
+  if (n == name) return true;
+  for (const auto& a : aliases)
+    if (n == a) return true;
+  return false;
 }
 
 Path parse_path(const std::string& name) {

@@ -1,10 +1,15 @@
 #include "geomint/study.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <gsl/gsl_fit.h>
 
 #include "geomint/error.hpp"
+#include "geomint/io.hpp"
+#include "geomint/record.hpp"
+#include "geomint/sweep.hpp"
 
 namespace geomint {
 
@@ -40,6 +45,146 @@ std::vector<double> halving_sequence(double h0, double h_min) {
   std::vector<double> hs{h0};
   while (hs.back() > h_min) hs.push_back(hs.back() / 2);
   return hs;
+}
+
+AsymptoticOrder asymptotic_order(const std::vector<double>& h, const std::vector<double>& err, double spread,
+                                 double floor) {
+  require(h.size() == err.size(), "asymptotic_order: h and err differ in length");
+  AsymptoticOrder a;
+  std::vector<double> x, y;  // the usable points, in the given order (coarse to fine)
+  for (std::size_t i = 0; i < h.size(); ++i)
+    if (std::isfinite(err[i]) && err[i] > floor && h[i] > 0) {
+      x.push_back(h[i]);
+      y.push_back(err[i]);
+    }
+  if (x.size() < 2) return a;
+  for (std::size_t k = 1; k < x.size(); ++k) a.local_orders.push_back(std::log(y[k - 1] / y[k]) / std::log(x[k - 1] / x[k]));
+  // the finest local orders that agree within `spread`
+  const std::size_t L = a.local_orders.size();
+  std::size_t first = L - 1;
+  double lo = a.local_orders[first], hi = lo;
+  while (first > 0) {
+    const double p = a.local_orders[first - 1];
+    if (std::max(hi, p) - std::min(lo, p) > spread) break;
+    lo = std::min(lo, p);
+    hi = std::max(hi, p);
+    --first;
+  }
+  // local orders first..L-1 join points first..L
+  a.points = static_cast<int>(L - first + 1);
+  a.h_max = x[first];
+  a.h_min = x[L];
+  if (a.points >= 3) {
+    a.status = AsymptoticOrder::Status::asymptotic;
+    a.slope = fit_order(std::vector<double>(x.begin() + static_cast<long>(first), x.end()),
+                        std::vector<double>(y.begin() + static_cast<long>(first), y.end()), floor)
+                  .slope;
+  } else {
+    a.status = AsymptoticOrder::Status::pre_asymptotic;
+    a.slope = a.local_orders.back();
+  }
+  return a;
+}
+
+std::string AsymptoticOrder::describe() const {
+  char b[160];
+  switch (status) {
+    case Status::asymptotic:
+      std::snprintf(b, sizeof b, "order %.3f over h = %.4g ... %.4g (%d points)", slope, h_max, h_min, points);
+      return b;
+    case Status::pre_asymptotic: {
+      std::string s = "pre-asymptotic: local orders";
+      for (double p : local_orders) {
+        std::snprintf(b, sizeof b, " %.3f", p);
+        s += b;
+      }
+      return s + " (no three finest points agree within the spread)";
+    }
+    case Status::too_few_points: break;
+  }
+  return "too few points above round-off for an order";
+}
+
+void fit_series(ConvergenceSeries& s) {
+  s.local_order = observed_orders(s.h, s.err);
+  s.fit = fit_order(s.h, s.err);
+  s.asymptotic = asymptotic_order(s.h, s.err);
+}
+
+namespace {
+struct Point {
+  double err = std::nan("");
+  std::string failure;
+};
+}  // namespace
+
+ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<ParamValues>& combos,
+                                   const std::vector<std::string>& schemes, const std::vector<double>& hs, Path path,
+                                   ReferenceKind kind, double tol, const Sweep& sweep) {
+  require(!hs.empty() && !schemes.empty() && !combos.empty(), "a convergence study needs h, schemes and parameters");
+  check_reference(sys, kind, tol);
+  // Every (combination, scheme, h) run is an item of the sweep (cost ~ 1/h); a rank computes the reference of a
+  // combination when it first needs it.
+  const std::size_t S = schemes.size(), H = hs.size(), n_items = combos.size() * S * H;
+  std::vector<double> cost(n_items);
+  for (std::size_t k = 0; k < n_items; ++k) cost[k] = 1 / hs[k % H];
+  std::string ref_kind;
+  const auto points = sweep.map<Point>(
+      n_items, cost,
+      [&](std::size_t first, std::size_t last) {
+        std::vector<Point> out;
+        std::size_t ref_of = SIZE_MAX;
+        Reference ref;
+        for (std::size_t k = first; k < last; ++k) {
+          const std::size_t c = k / (S * H);
+          const ParamValues& pv = combos[c];
+          if (ref_of != c) {
+            ref = sys.reference(pv, hs.back(), step_count(hs.back(), sys.horizon(pv)), kind, tol);
+            ref_of = c;
+            ref_kind = ref.kind;
+          }
+          const std::string& name = schemes[k / H % S];
+          Point p;
+          try {
+            p.err = sys.max_error(pv, name, hs[k % H], path, ref);
+          } catch (const NumericalFailure& f) {
+            p.failure = f.what();
+            std::string where = "parameters";  // the failure names the system, scheme and h already
+            for (const auto& [k, v] : pv) where += " " + k + "=" + format_number(v);
+            report_missing(pv.empty() ? "defaults" : where, p.failure);
+          }
+          out.push_back(p);
+        }
+        return out;
+      },
+      [](const Point& p) { return std::move(RowWriter().put(p.err).put(p.failure)).str(); },
+      [](const std::string& row) {
+        Point p;
+        RowReader(row).get(p.err).get(p.failure);
+        return p;
+      });
+  ConvergenceStudy study;
+  if (!sweep.root()) return study;
+  if (ref_kind.empty())  // every item ran on other ranks: name the reference all the same
+    ref_kind = sys.reference(combos.front(), hs.front(), 1, kind, tol).kind;
+  study.reference = ref_kind;
+  for (std::size_t c = 0; c < combos.size(); ++c)
+    for (std::size_t si = 0; si < S; ++si) {
+      ConvergenceSeries s;
+      s.scheme = schemes[si];
+      s.params = combos[c];
+      s.h = hs;
+      s.expected_order = sys.scheme(schemes[si]).order;
+      for (std::size_t i = 0; i < H; ++i) {
+        const Point& p = points[(c * S + si) * H + i];
+        s.err.push_back(p.err);
+        s.failure.push_back(p.failure);
+        s.steps.push_back(step_count(hs[i], sys.horizon(combos[c])));
+      }
+      fit_series(s);
+      study.series.push_back(std::move(s));
+    }
+  return study;
 }
 
 }  // namespace geomint

@@ -9,7 +9,7 @@
 #include "geomint/error.hpp"
 #include "geomint/modified/equations.hpp"
 #include "geomint/modified/lagrangians.hpp"
-#include "geomint/oscillator_registry.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/reference.hpp"
 
 namespace geomint::modified {
@@ -96,7 +96,7 @@ ModifiedSolution modified_solution(const std::string& scheme, double alpha, doub
 Agreement agreement(const std::string& scheme, double alpha, double h, double T, double q0, double p0, Start start,
                     double sign, double tol) {
   check_scheme(scheme);
-  const auto disc = find_oscillator_scheme(scheme).run({alpha, q0, p0, T}, h);
+  const auto disc = find_system("oscillator").run({{"alpha", alpha}, {"q0", q0}, {"p0", p0}, {"T", T}}, scheme, h, Path::fast, 1);
   const auto mod = modified_solution(scheme, alpha, h, h, T, q0, p0, start, sign, tol);
   const auto orig = modified_solution(scheme, alpha, h, 0.0, T, q0, p0, Start::naive, 1, tol);
   Agreement a{0, 0, 0, 0, 0, 0};

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geomint/linear_oscillator.hpp"
+#include "geomint/registry.hpp"
+
 namespace geomint::modified {
 
 AllOrders all_orders_from_trace_det(long double tr, long double det, long double h) {
@@ -33,6 +36,12 @@ AllOrders all_orders_from_trace_det(long double tr, long double det, long double
     }
   }
   return r;
+}
+
+AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha) {
+  // the closed form's matrix in long double (row-major (q, p)): the coefficients keep their digits
+  const auto M = find_system("oscillator").one_step_matrix({{"alpha", alpha}}, scheme, h, Path::fast);
+  return all_orders_from_trace_det(M[0] + M[3], M[0] * M[3] - M[1] * M[2], h);
 }
 
 double all_orders_deviation(const AllOrders& m, const std::vector<double>& t, const std::vector<double>& q) {

@@ -7,7 +7,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "geomint/error.hpp"
-#include "geomint/oscillator_registry.hpp"
+#include "geomint/registry.hpp"
 
 namespace geomint::modified {
 
@@ -39,14 +39,9 @@ Region classify_trace_det(double tr, double det, double alpha) {
 
 Region classify(const AllOrders& m, double alpha) { return classify_trace_det(m.tr, m.det, alpha); }
 
-AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha) {
-  long double M[2][2];
-  find_oscillator_scheme(scheme).one_step(h, alpha, M);
-  return all_orders_from_trace_det(M[0][0] + M[1][1], M[0][0] * M[1][1] - M[0][1] * M[1][0], h);
-}
-
-LinearMapClass classify_linear_map(const std::vector<double>& M, const std::vector<double>& C, int N, double h) {
-  require(N > 0 && M.size() == static_cast<std::size_t>(N * N) && C.size() == M.size(), "classify_linear_map: sizes");
+LinearMapClass classify_linear_map(const std::vector<long double>& ML, const std::vector<double>& C, int N, double h) {
+  require(N > 0 && ML.size() == static_cast<std::size_t>(N * N) && C.size() == ML.size(), "classify_linear_map: sizes");
+  const std::vector<double> M(ML.begin(), ML.end());  // eigenvalues in double (a generic step's matrix is double)
   const Eigen::MatrixXd Mm = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(M.data(), N, N);
   const Eigen::MatrixXd Cm = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(C.data(), N, N);
   const Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(Mm, false).eigenvalues();

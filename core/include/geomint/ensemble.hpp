@@ -8,7 +8,7 @@
 #include <thread>
 #include <vector>
 
-#include "geomint/oscillator.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/simd.hpp"
 
 namespace geomint {
@@ -41,7 +41,7 @@ struct OscEnsembleKernel {
 }  // namespace detail
 
 // Advances trajectories [begin, end) by `steps` steps. Simd::scalar steps each trajectory alone, all steps at a
-// time (what integrate_const does); the other choices run the vectorized kernel compiled for that width.
+// time (what the system's run_fast does); the other choices run the vectorized kernel compiled for that width.
 template <class Scheme>
 void step_ensemble_range(OscEnsemble& e, std::size_t begin, std::size_t end, long steps, double h, double alpha,
                          Simd simd = best_simd()) {

@@ -1,8 +1,8 @@
 #pragma once
-// Where the Foucault schemes fail (issue 6, items 2-4): an anomaly detector for one run, ensembles of runs
+// Where the Foucault schemes fail: an anomaly detector for one run, ensembles of runs
 // that turn single observations into probabilities, and reruns of the worst cases in wider precisions.
 //
-// The anomaly (derived in foucault.hpp, "Two discretizations of the constraint (13)"): with the paper's
+// The anomaly (derived in systems/foucault.hpp, "Two discretizations of the constraint (13)"): with the paper's
 // discrete constraint the step into a point q_L satisfies q_{L-1} x q_L = -s h |q_{L-1}|^2, so the line of
 // the plane turns, in that one step, by
 //     kappa_L = asin( -sigma s h |q_{L-1}| / |q_L| ),   sigma = sign(q_{L-1} . q_L)
@@ -14,7 +14,7 @@
 //     predicted = kappa_L + s h            (the landing step's own exact share is -s h)
 // which is ~ -sigma s h / rho for rho = |q_L| / |q_{L+1} - q_L| << 1 (the previous report's s h / rho),
 // and the following step removes the velocity across the new line: the energy drops by sin^2(kappa_L).
-// For the rotation discretization the line of every q_j is phi_j by construction: predicted = 0.
+// On foucault-rotation the line of every q_j is phi_j by construction: predicted = 0.
 //
 // Why the ensembles perturb the time origin and not the angle or the amplitude of q0. What decides a jump
 // is where, within a step, the grid falls relative to each crossing of the origin. Both schemes are
@@ -38,11 +38,13 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
-#include "geomint/foucault.hpp"
+#include "geomint/observers.hpp"
 #include "geomint/simd.hpp"
 #include "geomint/stats.hpp"
+#include "geomint/systems/foucault.hpp"
 
 namespace geomint {
 
@@ -56,7 +58,7 @@ struct FoucaultJump {
   double rho = std::numeric_limits<double>::quiet_NaN();     // |q_L| / |q_{L+1} - q_L|
   int side = 0;  // +1: q_L lands before the origin (q_{L-1}.q_L > 0), -1: after it (sigma above)
   double measured = std::numeric_limits<double>::quiet_NaN();   // plane turn minus exact -s dt, rad (signed)
-  double predicted = std::numeric_limits<double>::quiet_NaN();  // kappa_L + s h (paper), 0 (rotation), rad
+  double predicted = std::numeric_limits<double>::quiet_NaN();  // kappa_L + s h (foucault), 0 (foucault-rotation), rad
   double simple = std::numeric_limits<double>::quiet_NaN();     // atan(s h / rho), rad (unsigned; small kicks only)
   double energy_loss = std::numeric_limits<double>::quiet_NaN();  // 1 - E_k / E_{k-1} e^{alpha dt}
 };
@@ -81,7 +83,7 @@ struct AnomalySummary {
 // The landing of a half-swing is the q_L with the largest |q_{L-1}| / |q_L|, i.e. the largest one-step kick
 // of the paper's constraint: the grid point nearest the origin when it lies before the crossing, or the one
 // after the crossing when that is within 1 - 1/sqrt(2) = 0.29 of a step.
-// Observer for integrate_foucault / integrate_foucault_steps, in any scalar type. Per step it costs one
+// Observer of the closed forms' runs (run_closed_form, closed_steps), in any scalar type. Per step it costs one
 // squared norm and two products; everything else happens at turning points (twice per 16.4 s period).
 // jumps: every half-swing with |measured| >= record_threshold (rad). phi0: the exact plane angle at t = 0
 // (exact angle phi0 - s t). j_end: the step count of the run (the last step j_end - 1 gives E_end).
@@ -93,27 +95,21 @@ struct AnomalyLanding {
   Vec2<T> qm = Vec2<T>::Zero(), q = Vec2<T>::Zero(), qn = Vec2<T>::Zero();
 };
 
-// The per-step tests of AnomalyDetector as functions of squared radii, shared with the vectorized ensembles
-// (foucault_ensemble.cpp) so both decide alike. Cross-multiplied: no division per step. Every comparison is
-// evaluated (& and |, not && and ||): with -ftrapping-math GCC may not speculate a comparison that the source
-// evaluates only conditionally, and that alone keeps a loop from being vectorized.
+// The per-step landing test of AnomalyDetector as a function of squared radii, shared with the vectorized
+// ensembles (foucault_ensemble.cpp) so both decide alike (as is_turning_point, observers.hpp, on squared radii).
+// Cross-multiplied: no division per step.
 template <class T>
 inline bool landing_is_better(T r2m, T r2, T best_r2m, T best_r2) {
   return r2m * best_r2 > best_r2m * r2;
 }
-// q_j is a turning point: a local maximum of |q_j| (j = 0 counts when |q_0| >= |q_1|).
-template <class T>
-inline bool is_turning_point(bool first, T r2m, T r2, T rn2) {
-  return (r2 >= rn2) & (first | (r2 > r2m));
-}
 
-template <class T>
+// Sys: Foucault or FoucaultRotation, the system whose closed forms ran (what the landing predicts).
+template <class Sys, class T>
 class AnomalyDetector {
  public:
-  AnomalyDetector(const FoucaultParams<T>& p, T h, long j_end, double phi0, double E0, double record_threshold,
-                  FoucaultConstraint constraint)
+  AnomalyDetector(const FoucaultParams<T>& p, T h, long j_end, double phi0, double E0, double record_threshold)
       : p_(p), h_(h), hd_(static_cast<double>(h)), s_(static_cast<double>(p.s)), alpha_(static_cast<double>(p.alpha)),
-        phi0_(phi0), threshold_(record_threshold), j_end_(j_end), constraint_(constraint) {
+        phi0_(phi0), threshold_(record_threshold), j_end_(j_end) {
     summary_.E0 = E0;
     jumps.reserve(64);
   }
@@ -145,7 +141,7 @@ class AnomalyDetector {
     double a = std::atan2(y, x);
     const double E = static_cast<double>(chord_energy(p_, q, qn, h_));
     if (have_turn_) {
-      a += pi * std::round((prev_angle_ - a) / pi);  // the plane is a line: the representative nearest the last
+      a = line_angle(x, y, prev_angle_);
       FoucaultJump J;
       J.j_prev_turn = prev_j_;
       J.j_turn = j;
@@ -160,10 +156,11 @@ class AnomalyDetector {
         J.rho = static_cast<double>(sqrt(best.r2 / (best.qn - best.q).squaredNorm()));
         J.side = best.qm.dot(best.q) >= 0 ? 1 : -1;
         J.simple = std::atan(s_ * hd_ / J.rho);
-        J.predicted = constraint_ == FoucaultConstraint::rotation
-                          ? 0.0
-                          : predicted_jump(s_, hd_, static_cast<double>(best.qm(0)), static_cast<double>(best.qm(1)),
-                                           static_cast<double>(best.q(0)), static_cast<double>(best.q(1)));
+        if constexpr (std::is_same_v<Sys, systems::FoucaultRotation>)
+          J.predicted = 0.0;
+        else
+          J.predicted = predicted_jump(s_, hd_, static_cast<double>(best.qm(0)), static_cast<double>(best.qm(1)),
+                                       static_cast<double>(best.q(0)), static_cast<double>(best.q(1)));
         if (J.rho < summary_.min_rho) {
           summary_.min_rho = J.rho;
           summary_.t_min_rho = J.t_land;
@@ -173,8 +170,7 @@ class AnomalyDetector {
       if (!(std::abs(J.measured) <= std::abs(summary_.max.measured))) summary_.max = J;  // also replaces NaN
       if (std::abs(J.measured) >= threshold_) jumps.push_back(J);
     }
-    const double d = a - (phi0_ - s_ * t);
-    summary_.plane_error = d - pi * std::round(d / pi);
+    summary_.plane_error = nearest_branch(a - (phi0_ - s_ * t), 0.0, pi);
     summary_.t_plane = t;
     prev_angle_ = a;
     prev_t_ = t;
@@ -199,7 +195,6 @@ class AnomalyDetector {
   T h_;
   double hd_, s_, alpha_, phi0_, threshold_;
   long j_end_;
-  FoucaultConstraint constraint_;
   AnomalySummary summary_;
   bool started_ = false, have_turn_ = false;
   T r2m_ = 0, r2_ = 0;
@@ -211,10 +206,11 @@ class AnomalyDetector {
 // ---------------------------------------------------------------------------------------------------
 // Runs and ensembles (double unless a Precision is given)
 
-// One run of an ensemble: scheme, constraint discretization, alpha, h, and the time-origin shift tau.
+// One run of an ensemble: scheme, system (foucault or foucault-rotation: the discretization of (13)), alpha, h,
+// and the time-origin shift tau.
 struct AnomalyCase {
   std::string scheme;
-  FoucaultConstraint constraint = FoucaultConstraint::paper;
+  std::string system = systems::Foucault::name;
   double alpha = 0, h = 0, tau = 0;
   long run = 0;
 };
@@ -243,40 +239,40 @@ const char* to_string(Precision p);
 // The scene of a run: base with alpha and, as initial data, the exact state at time tau of base's
 // consistent start (so run k sees the same exact trajectory, entered tau later). tau = 0 gives base's
 // start projected onto (13).
-FoucaultScene anomaly_scene(const FoucaultScene& base, double alpha, double tau);
+systems::FoucaultPendulum anomaly_scene(const systems::FoucaultPendulum& base, double alpha, double tau);
 
 // Runs one case from t = 0 for `stop_step` steps (default: all N = T/h), in the given precision, with the
 // legendre start. Never throws for a numerical failure: status says what happened. InputError for bad input.
-AnomalyRun run_anomaly(const FoucaultScene& base, const AnomalyCase& c, double record_threshold,
+AnomalyRun run_anomaly(const systems::FoucaultPendulum& base, const AnomalyCase& c, double record_threshold,
                        Precision precision = Precision::double_, long stop_step = -1);
 
 // Steps j_from .. j_to - 1 of the case in `precision`, restarted from the double run's (q_{j_from-1}, q_{j_from})
 // (converted exactly). For a rerun of one pass in quad precision without paying for the whole hour.
-AnomalyRun rerun_anomaly_segment(const FoucaultScene& base, const AnomalyCase& c, double record_threshold,
+AnomalyRun rerun_anomaly_segment(const systems::FoucaultPendulum& base, const AnomalyCase& c, double record_threshold,
                                  Precision precision, long j_from, long j_to);
 
-// The cases of an ensemble: for each h, alpha, scheme, constraint, M runs with tau_k = h (k + 1/2) / M.
+// The cases of an ensemble: for each h, alpha, scheme, system, M runs with tau_k = h (k + 1/2) / M.
 // Ordered by cost (small h first), so threads pulling from the front stay balanced.
 std::vector<AnomalyCase> anomaly_cases(const std::vector<double>& hs, const std::vector<double>& alphas,
                                        const std::vector<std::string>& schemes,
-                                       const std::vector<FoucaultConstraint>& constraints, long runs);
+                                       const std::vector<std::string>& systems, long runs);
 
 // Runs every case on `threads` threads (std::thread, each pulling the next work item). progress(done, total)
 // is called from the calling thread about every 0.1 s and once at the end.
 // simd: Simd::scalar runs each case through run_anomaly (one trajectory at a time); sse2/avx2/avx512 step up
-// to 128 consecutive cases of one cell (scheme, constraint, alpha, h) together in structure-of-arrays form,
+// to 128 consecutive cases of one cell (scheme, system, alpha, h) together in structure-of-arrays form,
 // vectorized for that instruction set. Every choice, and every thread count, gives the same bits
 // (tests/simd_ensemble.test.cpp).
-std::vector<AnomalyRun> run_anomaly_ensemble(const FoucaultScene& base, const std::vector<AnomalyCase>& cases,
+std::vector<AnomalyRun> run_anomaly_ensemble(const systems::FoucaultPendulum& base, const std::vector<AnomalyCase>& cases,
                                              double record_threshold, unsigned threads,
                                              const std::function<void(std::size_t, std::size_t)>& progress = {},
                                              Simd simd = best_simd());
 
-// Per (scheme, constraint, alpha, h): the statistics the issue asks for.
+// Per (scheme, system, alpha, h): the jump and energy-loss statistics with their error bars and predictions.
 inline constexpr std::array<double, 3> anomaly_jump_thresholds_deg{1, 5, 20};
 struct AnomalyCell {
   std::string scheme;
-  FoucaultConstraint constraint = FoucaultConstraint::paper;
+  std::string system = systems::Foucault::name;
   double alpha = 0, h = 0;
   long runs = 0, failed = 0;
   std::array<double, 3> p_jump{};       // share of ok runs with max |jump| > 1, 5, 20 deg
@@ -295,17 +291,17 @@ struct AnomalyCell {
   double max_jump_deg = std::numeric_limits<double>::quiet_NaN();
 };
 // record_threshold: the one the runs were made with (rad), to know which mean counts are complete.
-std::vector<AnomalyCell> summarize_anomaly(const FoucaultScene& base, const std::vector<AnomalyRun>& runs,
+std::vector<AnomalyCell> summarize_anomaly(const systems::FoucaultPendulum& base, const std::vector<AnomalyRun>& runs,
                                            double record_threshold);
 
 // Expected number of half-swings per run that turn by more than K (rad) under uniform landings:
 // N_pass min(1, 2 s h / sin K), N_pass = T omega_d / pi (see above). Exact in expectation (linearity),
 // whatever the correlation between the passes of one run.
-double predicted_jump_count(const FoucaultScene& base, double alpha, double h, double K_rad);
+double predicted_jump_count(const systems::FoucaultPendulum& base, double alpha, double h, double K_rad);
 // 1 - exp(-predicted_jump_count): the probability per run if passes were independent (Poisson). The
 // landings of one run drift slowly through the origin's neighbourhood, so close ones come in clusters and
 // the measured probability can be lower; the count is the sharper test.
-double predicted_jump_probability(const FoucaultScene& base, double alpha, double h, double K_rad);
+double predicted_jump_probability(const systems::FoucaultPendulum& base, double alpha, double h, double K_rad);
 
 // Quantile q in [0, 1] of the finite values (linear interpolation); NaN if none.
 double quantile(std::vector<double> v, double q);

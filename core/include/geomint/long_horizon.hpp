@@ -36,7 +36,8 @@
 
 #include "geomint/error.hpp"
 #include "geomint/gsl_evolve.hpp"
-#include "geomint/oscillator.hpp"
+#include "geomint/observers.hpp"
+#include "geomint/systems/oscillator.hpp"
 #include "geomint/timing.hpp"
 
 namespace geomint {
@@ -83,8 +84,7 @@ class OscillatorProbe {
       t0_ = t;
       started_ = true;
     } else {
-      const double expect = theta_ + omega_ * (t - t_last_);
-      theta_ = a + two_pi * std::round((expect - a) / two_pi);
+      theta_ = nearest_branch(a, theta_ + omega_ * (t - t_last_), two_pi);  // the branch nearest the exact advance
     }
     t_last_ = t;
     // basis: 1, t/T, cos 2k theta, sin 2k theta (k = 1..K) from c = cos theta, s = sin theta
@@ -153,7 +153,7 @@ inline int renormalisation_shift(double q, double p) {
   return -std::ilogb(m);
 }
 
-// A long run split into `windows` windows, in steps of a fixed-step scheme S (oscillator_schemes.hpp):
+// A long run split into `windows` windows, in steps of an oscillator closed form S (systems/oscillator.hpp):
 // boundary k after round(k N / windows) steps. Work by the trapezoid rule on the step points (the schemes carry
 // no quadrature of their own). Measure = false is the same run with nothing observed (for timings).
 template <class S, bool Measure>

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "geomint/timing.hpp"
+
 namespace geomint {
 
 // A parameter of a system (its fields: physical constants, initial data, horizon T).
@@ -27,12 +29,17 @@ Path parse_path(const std::string& name);
 const char* to_string(Path p);
 
 struct SchemeInfo {
-  std::string name;        // la, contact, la-midpoint, la-trapezoid, contact-trapezoid
-  std::string principle;   // "Lagrange-d'Alembert (1)" or "discrete Herglotz (3)"
-  std::string quadrature;  // left, midpoint, trapezoid
-  int order;               // expected order of convergence
-  std::string fast_path;   // the closed form that specializes it on this system ("" if none)
+  std::string name;                  // its one name: la, contact, la-midpoint, la-trapezoid, contact-trapezoid, or a
+                                     // scheme the system declares beyond the generic ones (la-printed, ...)
+  std::vector<std::string> aliases;  // the paper's names of its closed form on this system (leapfrog, la-nh, ...),
+                                     // accepted wherever the name is
+  std::string principle;   // "Lagrange-d'Alembert (1)", "discrete Herglotz (3), (4)", or "declared by the system: ..."
+  std::string quadrature;  // left, midpoint, trapezoid ("" for a scheme the system declares)
+  int order;               // expected order of convergence (0: does not converge)
+  std::string fast_path;   // the closed form that runs it on this system ("" if none)
+  bool generic = true;     // it has a residual, so the generic Newton step runs it (false: its closed form only)
   std::string description() const;
+  bool named(const std::string& name) const;  // its name or one of its aliases
 };
 
 // A run as tidy columns, decimated to every k-th step (always including the first and the last).
@@ -51,6 +58,31 @@ struct Run {
   long steps = 0;
   double newton_mean = -1;       // mean Newton iterations per step over the whole run (-1: closed form)
   double max_phi_d = 0;          // over every step, not only the kept ones
+  // The memory of one kept step (for check_memory before a long run is stored).
+  static double bytes_per_step(int n, int m) {
+    return static_cast<double>(sizeof(long) + sizeof(int) + sizeof(double) * (5 + 3 * n + m));
+  }
+};
+
+// What the tests of a system expect of it (tests/generic_systems.test.cpp), declared with the system where it
+// differs from the defaults (a system's `static Expectations expectations()`): the parameters and step sizes of
+// the convergence test, and the order a scheme shows there where it is not the scheme's own. The test fits the
+// order on the asymptotic range (asymptotic_order, study.hpp) and holds it to `orders` within order_tolerance; a
+// fit that is still pre-asymptotic there is reported as such, not failed. Defaults: the system's parameters with
+// the horizon cut to 20 (several oscillations, short enough for CI), h = 0.1 halved five times, the reference the
+// closed form where there is one (else Odeint at 1e-13).
+struct Expectations {
+  ParamValues params;                               // overrides of the system's defaults for the test
+  double h_max = 0.1;
+  int halvings = 5;                                 // h = h_max / 2^k, k = 0..halvings
+  std::vector<std::pair<std::string, int>> orders;  // scheme -> the order it shows here, where not its own
+  double order_tolerance = 0.1;
+  std::string why;                                  // the reason for every declaration above
+  int order_of(const std::string& scheme, int own) const {
+    for (const auto& [s, k] : orders)
+      if (s == scheme) return k;
+    return own;
+  }
 };
 
 // A reference solution on the grid t_j = j h, j = 0..N.
@@ -72,6 +104,7 @@ struct SystemInfo {
   bool has_exact = false, has_herglotz = false, has_rhs = false, linear = false;
   std::vector<ParamInfo> params;
   std::vector<SchemeInfo> schemes;
+  Expectations expectations;  // what its tests expect (declared with the system, or the defaults)
 
   // Operations on this system (function pointers into its generated translation unit).
   void (*validate)(const ParamValues&) = nullptr;  // InputError naming the first bad value
@@ -87,20 +120,22 @@ struct SystemInfo {
   // tol) on the equations derived from L, F and Phi by automatic differentiation (odeint) or on the system's
   // hand-written rhs (odeint_rhs).
   Reference (*reference)(const ParamValues&, double h, long N, ReferenceKind, double tol) = nullptr;
-  // For work–precision: the median CPU seconds of one run of N = T/h steps (nothing stored; warm-up, repeats),
+  // For work–precision: the CPU time of one run of N = T/h steps (nothing stored; warm-up, repeats: median, min, max),
   // and the continuous equations as a first-order ODE x' = f(t, x), x = (q, q') (the AD-derived acceleration),
   // with its consistent initial state, for Odeint baselines.
-  double (*seconds_per_run)(const ParamValues&, const std::string& scheme, double h, Path, int reps) = nullptr;
+  TimingStats (*time_run)(const ParamValues&, const std::string& scheme, double h, Path, int reps) = nullptr;
   std::function<void(double t, const double* x, double* dx)> (*ode)(const ParamValues&) = nullptr;
   std::vector<double> (*ode_initial_state)(const ParamValues&) = nullptr;
   // Linear unconstrained systems (stability maps): the linear part of the one-step map of `scheme` on (q, p)
   // (2n x 2n, row-major; a forcing term is removed by differencing), and of the continuous flow's generator on
-  // (q, q'). InputError for other systems.
-  std::vector<double> (*one_step_matrix)(const ParamValues&, const std::string& scheme, double h) = nullptr;
+  // (q, q'). On the fast path a closed form gives its matrix in long double (the system's closed_form_matrix),
+  // the generic step in double. InputError for other systems.
+  std::vector<long double> (*one_step_matrix)(const ParamValues&, const std::string& scheme, double h, Path) = nullptr;
   std::vector<double> (*continuous_matrix)(const ParamValues&) = nullptr;
 
-  const SchemeInfo& scheme(const std::string& name) const;  // InputError naming the known ones
-  std::vector<std::string> scheme_names() const;
+  // The scheme named `name` or one of its aliases; InputError naming the known ones.
+  const SchemeInfo& scheme(const std::string& name) const;
+  std::vector<std::string> scheme_names() const;  // their one names, in the registry's order
   // The header lines of an output file: every parameter with its value.
   std::vector<std::pair<std::string, std::string>> header(const ParamValues&) const;
 };

@@ -24,7 +24,7 @@
 
 namespace geomint {
 
-// scalar: one trajectory at a time through the library's scalar path (integrate_const, integrate_foucault);
+// scalar: one trajectory at a time through the library's scalar path (the systems' closed-form loops);
 // sse2, avx2, avx512: the structure-of-arrays kernels compiled for that instruction set.
 enum class Simd { scalar, sse2, avx2, avx512 };
 

@@ -1,9 +1,16 @@
 #pragma once
-// Studies as data: fitted orders (GSL least squares on log err vs log h) and observed orders.
+// Studies as data: what a convergence study returns (h, errors, steps, local orders, fits, failures as missing
+// values), the fits it is summarised by, and the rule that says when a fitted order is asymptotic. Programs write
+// these; tests assert on them (the model: DiffEqDevTools' ConvergenceSimulation).
 #include <limits>
+#include <string>
 #include <vector>
 
+#include "geomint/registry.hpp"
+
 namespace geomint {
+
+class Sweep;
 
 struct OrderFit {
   double slope = std::numeric_limits<double>::quiet_NaN();
@@ -20,5 +27,66 @@ std::vector<double> observed_orders(const std::vector<double>& h, const std::vec
 
 // h0, h0/2, h0/4, ... down to the first value <= h_min.
 std::vector<double> halving_sequence(double h0, double h_min);
+
+// The fitted order on the asymptotic range of a convergence series, and whether there is one.
+//
+// The rule (one rule, stated here, for every test and program): drop failed points and points at round-off
+// (err <= floor); take the local orders between successive remaining points (observed_orders); the asymptotic
+// range is the longest run of the finest points whose local orders all lie within `spread` of each other; the
+// order is the least-squares slope over that range (fit_order). The fit is
+//   asymptotic       with at least three points in the range (two local orders that agree): the slope is the order;
+//   pre_asymptotic   with fewer: the local orders still drift at the finest h — a crossover between error terms of
+//                    different order, or step sizes too large — and the slope over the last two points is reported
+//                    as what it is, not as an order;
+//   too_few_points   with fewer than two usable points.
+// A crossover seen over a range of h (the Duffing oscillator's contact: local orders 0.6 ... 0.9 over h = 0.1 ...
+// 0.003) is pre-asymptotic there, and asymptotic at the order on a finer range.
+struct AsymptoticOrder {
+  enum class Status { asymptotic, pre_asymptotic, too_few_points };
+  Status status = Status::too_few_points;
+  double slope = std::numeric_limits<double>::quiet_NaN();
+  int points = 0;                                             // points in the range
+  double h_max = std::numeric_limits<double>::quiet_NaN();    // the range's largest and smallest h
+  double h_min = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> local_orders;                           // of the usable points, coarse to fine
+  bool asymptotic() const { return status == Status::asymptotic; }
+  // One line for a report: "order 1.00 over h = 0.0125 ... 0.00156 (4 points)" or "pre-asymptotic: local orders
+  // 0.61 0.74 0.86 0.93 ... (no three finest agree within 0.1)".
+  std::string describe() const;
+};
+AsymptoticOrder asymptotic_order(const std::vector<double>& h, const std::vector<double>& err, double spread = 0.1,
+                                 double floor = 1e-13);
+
+// ---------------------------------------------------------------------------------------------------------------
+// Convergence study
+
+// One series: the error of one scheme of a system at one parameter combination, for every h.
+struct ConvergenceSeries {
+  std::string scheme;                  // as asked (its name or an alias)
+  ParamValues params;                  // the combination
+  std::vector<double> h, err;          // err: max_j max_i |q_i(t_j) - q_ref,i(t_j)|, NaN where the run failed
+  std::vector<long> steps;             // T/h
+  std::vector<std::string> failure;    // why a point is missing ("" where it is not)
+  std::vector<double> local_order;     // observed_orders(h, err)
+  OrderFit fit;                        // least squares over every point above round-off
+  AsymptoticOrder asymptotic;          // the rule above
+  int expected_order = 0;              // the scheme's (SchemeInfo::order)
+};
+
+struct ConvergenceStudy {
+  std::string reference;               // what the errors are measured against (Reference::kind)
+  std::vector<ConvergenceSeries> series;  // combination after combination, each with every scheme
+};
+
+// Every (combination, scheme, h) run of `sys` against its reference on the finest h of `hs` (computed once per
+// combination: the closed form or Boost.Odeint at `tol`, as check_reference allows), split over the ranks of
+// `sweep` (under mpirun rank 0 gets the study, the others an empty one). A numerical failure is a missing value
+// (NaN, its message in `failure`), reported on stderr with the system, scheme, parameters and h.
+ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<ParamValues>& combos,
+                                   const std::vector<std::string>& schemes, const std::vector<double>& hs, Path path,
+                                   ReferenceKind kind, double tol, const Sweep& sweep);
+
+// The series' fits from its h and err (local orders, least-squares and asymptotic fits).
+void fit_series(ConvergenceSeries& s);
 
 }  // namespace geomint

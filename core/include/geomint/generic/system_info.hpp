@@ -53,85 +53,62 @@ double horizon_of(const Sys& sys) {
 }
 
 // ---------------------------------------------------------------------------------------------------
-// The schemes a system gets, and their closed forms
+// Driving a run: the closed form where asked and available, else the generic stepper. The observer gets
+// the StepView of every q_j, j = 0..N, and the Newton iterations of the step into it (-1: closed form).
+// X is a generic scheme or a scheme the system declares (which runs its closed form whatever the path).
 
-using AllSchemes = AllSchemesTuple;
-
-template <class Sys, class G>
-constexpr bool applicable() {
-  return !G::contact || has_herglotz_v<Sys>;
-}
-
-template <class Sys, class G, class Paths = typename fast_paths_of<Sys>::type>
-struct fast_for;
-template <class Sys, class G>
-struct fast_for<Sys, G, std::tuple<>> {
-  using type = void;
-};
-template <class Sys, class G, class P, class... Ps>
-struct fast_for<Sys, G, std::tuple<P, Ps...>> {
-  using type = std::conditional_t<std::is_same_v<typename P::generic, G>, typename P::closed,
-                                  typename fast_for<Sys, G, std::tuple<Ps...>>::type>;
-};
-template <class Sys, class G>
-using fast_for_t = typename fast_for<Sys, G>::type;
-
-template <class Sys>
-std::string known_schemes() {
-  std::string known;
-  std::apply([&](auto... g) {
-    ((applicable<Sys, decltype(g)>() ? (void)(known += (known.empty() ? "" : ", ") + std::string(scheme_name<decltype(g)>()))
-                                     : (void)0),
-     ...);
-  }, AllSchemes{});
-  return known;
-}
-
-// Calls f(G{}) for the applicable scheme named `name`; InputError naming the known ones otherwise.
-template <class Sys, std::size_t I = 0, class F>
-decltype(auto) visit_scheme(const std::string& name, F&& f) {
-  if constexpr (I == std::tuple_size_v<AllSchemes>) {
-    throw InputError("unknown scheme '" + name + "' for system '" + Sys::name + "' (known: " + known_schemes<Sys>() + ")");
-    return f(LaLeft{});  // not reached; gives the return type
+// The path that actually runs X on Sys when `path` is asked for.
+template <class Sys, class X>
+Path effective_path(Path path) {
+  if constexpr (is_extra_scheme_v<X>) {
+    (void)path;
+    return Path::fast;
   } else {
-    using G = std::tuple_element_t<I, AllSchemes>;
-    if constexpr (applicable<Sys, G>()) {
-      if (name == scheme_name<G>()) return f(G{});
-    }
-    return visit_scheme<Sys, I + 1>(name, f);
+    return std::is_void_v<closed_form_for_t<Sys, X>> ? Path::generic : path;
   }
 }
 
-// ---------------------------------------------------------------------------------------------------
-// Driving a run: the closed form where asked and available, else the generic stepper. The observer gets
-// the StepView of every q_j, j = 0..N, and the Newton iterations of the step into it (-1: closed form).
+template <class Sys, class X>
+void require_path(Path path) {
+  if constexpr (is_extra_scheme_v<X>) {
+    if (path == Path::generic)
+      throw InputError(std::string("scheme '") + X::name + "' is declared by system '" + Sys::name +
+                       "' as a closed form only: it has no generic step (use --path fast)");
+  } else {
+    (void)path;
+  }
+}
 
-template <class Sys, class G, class Observer>
+template <class Sys, class X, class Observer>
 void drive(const Sys& sys, double h, long N, Path path, Observer&& observe) {
   constexpr int n = Sys::dof, m = Sys::constraints;
-  using C = fast_for_t<Sys, G>;
+  require_path<Sys, X>(path);
+  using C = runner_of_t<Sys, X>;
   if constexpr (!std::is_void_v<C>) {
-    if (path == Path::fast) {
+    if (effective_path<Sys, X>(path) == Path::fast) {
       sys.template run_fast<C>(h, N, [&](const auto& view) { observe(view, -1); });
       return;
     }
   }
-  Stepper<Sys, G> st(sys, h);
-  st.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
-  auto emit = [&](int updates) {
-    const auto& s = st.state();
-    observe(StepView<double, n, m>{s.j, s.t, s.q, s.p, s.z, s.lambda}, updates);
-  };
-  emit(0);
-  for (long j = 0; j < N; ++j) {
-    st.step();
-    emit(st.last_updates());
+  if constexpr (!is_extra_scheme_v<X>) {
+    Stepper<Sys, X> st(sys, h);
+    st.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
+    auto emit = [&](int updates) {
+      const auto& s = st.state();
+      observe(StepView<double, n, m>{s.j, s.t, s.q, s.p, s.z, s.lambda}, updates);
+    };
+    emit(0);
+    for (long j = 0; j < N; ++j) {
+      st.step();
+      emit(st.last_updates());
+    }
   }
 }
 
-template <class Sys, class G>
-std::string context(const Sys&, const std::string& scheme, double h, Path path) {
-  return std::string("system ") + Sys::name + ", scheme " + scheme + " (" + to_string(path) + "), h = " + show(h);
+template <class Sys, class X>
+std::string context(const Sys&, double h, Path path) {
+  return std::string("system ") + Sys::name + ", scheme " + scheme_name_of<X>() + " (" +
+         to_string(effective_path<Sys, X>(path)) + "), h = " + show(h);
 }
 
 // The velocity whose continuous momentum is p (Newton on dL/dq' = p, the Hessian by AD; one update for a
@@ -216,7 +193,7 @@ Run run_scheme(const Sys& sys, double h, Path path, long every) {
   try {
     drive<Sys, G>(sys, h, N, path, [&](const StepView<double, n, m>& s, int updates) {
       double phid = 0;
-      if constexpr (m > 0) {
+      if constexpr (m > 0 && !is_extra_scheme_v<G>) {
         if (s.j > 0)
           phid = discrete_constraint<Sys, typename G::quadrature, double>(sys, s.t - h, h, qprev, s.q)
                      .template lpNorm<Eigen::Infinity>();
@@ -229,7 +206,7 @@ Run run_scheme(const Sys& sys, double h, Path path, long every) {
       append_step(run, sys, G::contact, s, phid, updates);
     });
   } catch (const NumericalFailure& e) {
-    throw e.within(context<Sys, G>(sys, scheme_name<G>(), h, path));
+    throw e.within(context<Sys, G>(sys, h, path));
   }
   run.newton_mean = closed ? -1 : (N > 0 ? double(newton_sum) / double(N) : 0);
   return run;
@@ -248,7 +225,7 @@ double max_over_run(const Sys& sys, double h, Path path, const Reference& ref, M
         err = std::max(err, metric(i, s.q(i), ref.q[static_cast<std::size_t>(r * n + i)]));
     });
   } catch (const NumericalFailure& e) {
-    throw e.within(context<Sys, G>(sys, scheme_name<G>(), h, path));
+    throw e.within(context<Sys, G>(sys, h, path));
   }
   return err;
 }
@@ -334,25 +311,43 @@ void require_linear_unconstrained(const char* what) {
     throw InputError(std::string(what) + " needs a linear system without constraints; '" + Sys::name + "' is not");
 }
 
-// Columns are the images of the unit vectors of (q, p), minus the image of 0 (which carries any forcing).
-template <class Sys, class G>
-std::vector<double> one_step_matrix_of(const Sys& sys, double h) {
+template <class Sys, class C, class = void>
+struct has_closed_form_matrix : std::false_type {};
+template <class Sys, class C>
+struct has_closed_form_matrix<Sys, C, std::void_t<decltype(std::declval<const Sys&>().template closed_form_matrix<C>(0.0L))>>
+    : std::true_type {};
+
+// The generic step's matrix: columns are the images of the unit vectors of (q, p), minus the image of 0 (which
+// carries any forcing). A closed form with a closed_form_matrix gives its own on the fast path.
+template <class Sys, class X>
+std::vector<long double> one_step_matrix_of(const Sys& sys, double h, Path path) {
   constexpr int n = Sys::dof, N = 2 * n;
-  auto image = [&](const Vec<double, N>& x) {
-    Stepper<Sys, G> st(sys, h);
-    st.restart(0, Vec<double, n>(x.template head<n>()), Vec<double, n>(x.template tail<n>()), 0.0);
-    st.step();
-    Vec<double, N> y;
-    y << st.state().q, st.state().p;
-    return y;
-  };
-  const Vec<double, N> zero = image(Vec<double, N>::Zero());
-  std::vector<double> M(static_cast<std::size_t>(N * N));
-  for (int c = 0; c < N; ++c) {
-    const Vec<double, N> col = image(Vec<double, N>::Unit(c)) - zero;
-    for (int r = 0; r < N; ++r) M[static_cast<std::size_t>(r * N + c)] = col(r);
+  require_path<Sys, X>(path);
+  using C = runner_of_t<Sys, X>;
+  if constexpr (!std::is_void_v<C>) {
+    if constexpr (has_closed_form_matrix<Sys, C>::value) {
+      if (effective_path<Sys, X>(path) == Path::fast) return sys.template closed_form_matrix<C>(h);
+    }
   }
-  return M;
+  if constexpr (is_extra_scheme_v<X>) {
+    throw InputError(std::string("scheme '") + X::name + "' of system '" + Sys::name + "' gives no one-step matrix");
+  } else {
+    auto image = [&](const Vec<double, N>& x) {
+      Stepper<Sys, X> st(sys, h);
+      st.restart(0, Vec<double, n>(x.template head<n>()), Vec<double, n>(x.template tail<n>()), 0.0);
+      st.step();
+      Vec<double, N> y;
+      y << st.state().q, st.state().p;
+      return y;
+    };
+    const Vec<double, N> zero = image(Vec<double, N>::Zero());
+    std::vector<long double> M(static_cast<std::size_t>(N * N));
+    for (int c = 0; c < N; ++c) {
+      const Vec<double, N> col = image(Vec<double, N>::Unit(c)) - zero;
+      for (int r = 0; r < N; ++r) M[static_cast<std::size_t>(r * N + c)] = col(r);
+    }
+    return M;
+  }
 }
 
 template <class Sys>
@@ -380,6 +375,24 @@ std::vector<double> continuous_matrix_of(const Sys& sys) {
 // ---------------------------------------------------------------------------------------------------
 // The registry entry
 
+template <class Sys, class = void>
+struct has_expectations : std::false_type {};
+template <class Sys>
+struct has_expectations<Sys, std::void_t<decltype(Sys::expectations())>> : std::true_type {};
+
+// The system's declared expectations, or the defaults (the horizon cut to 20).
+template <class Sys>
+Expectations expectations_of() {
+  if constexpr (has_expectations<Sys>::value) {
+    return Sys::expectations();
+  } else {
+    Expectations e;
+    const double T = horizon_of(Sys{});
+    if (T > 20) e.params = {{"T", 20}};
+    return e;
+  }
+}
+
 template <class Sys>
 SystemInfo make_system_info() {
   SystemInfo info;
@@ -393,20 +406,28 @@ SystemInfo make_system_info() {
   info.linear = is_linear<Sys>();
   Sys defaults;
   defaults.visit([&](const char* name, double& x, const char* doc) { info.params.push_back({name, x, doc}); });
-  std::apply([&](auto... g) {
-    (([&] {
-       using G = decltype(g);
-       if constexpr (applicable<Sys, G>()) {
-         using C = fast_for_t<Sys, G>;
-         std::string fast;
-         if constexpr (!std::is_void_v<C>) fast = C::name;
-         info.schemes.push_back({scheme_name<G>(), G::contact ? "discrete Herglotz (3), (4)" : "Lagrange-d'Alembert (1)",
-                                 G::quadrature::name, G::order, fast});
-       }
-     }()),
-     ...);
-  }, AllSchemes{});
+  for_each_scheme<Sys>([&](auto x) {
+    using X = decltype(x);
+    SchemeInfo si;
+    si.name = scheme_name_of<X>();
+    si.order = X::order;
+    if constexpr (is_extra_scheme_v<X>) {
+      si.principle = std::string("declared by the system: ") + X::description;
+      si.fast_path = X::name;
+      si.generic = false;
+    } else {
+      si.principle = X::contact ? "discrete Herglotz (3), (4)" : "Lagrange-d'Alembert (1)";
+      si.quadrature = X::quadrature::name;
+      using C = closed_form_for_t<Sys, X>;
+      if constexpr (!std::is_void_v<C>) {
+        si.fast_path = C::name;
+        if (!std::string(alias_of<C>()).empty()) si.aliases.push_back(alias_of<C>());
+      }
+    }
+    info.schemes.push_back(si);
+  });
 
+  info.expectations = expectations_of<Sys>();
   info.validate = [](const ParamValues& pv) { make_system<Sys>(pv).validate(); };
   info.horizon = [](const ParamValues& pv) { return horizon_of(make_system<Sys>(pv)); };
   info.run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, long every) {
@@ -436,7 +457,7 @@ SystemInfo make_system_info() {
     sys.validate();
     return reference_of(sys, h, N, kind, tol);
   };
-  info.seconds_per_run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, int reps) {
+  info.time_run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, int reps) {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
     const long N = step_count(h, horizon_of(sys));
@@ -449,7 +470,7 @@ SystemInfo make_system_info() {
             do_not_optimize(last);
           },
           reps);
-      return st.median;
+      return st;
     });
   };
   info.ode = [](const ParamValues& pv) -> std::function<void(double, const double*, double*)> {
@@ -465,15 +486,15 @@ SystemInfo make_system_info() {
       }
     };
   };
-  info.one_step_matrix = [](const ParamValues& pv, const std::string& scheme, double h) {
+  info.one_step_matrix = [](const ParamValues& pv, const std::string& scheme, double h, Path path) {
     require_linear_unconstrained<Sys>("a one-step matrix");
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
     require_positive(h, "h");
     if constexpr (is_linear<Sys>() && Sys::constraints == 0) {
-      return visit_scheme<Sys>(scheme, [&](auto g) { return one_step_matrix_of<Sys, decltype(g)>(sys, h); });
+      return visit_scheme<Sys>(scheme, [&](auto g) { return one_step_matrix_of<Sys, decltype(g)>(sys, h, path); });
     } else {
-      return std::vector<double>{};
+      return std::vector<long double>{};
     }
   };
   info.continuous_matrix = [](const ParamValues& pv) {

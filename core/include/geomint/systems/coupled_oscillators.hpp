@@ -7,7 +7,8 @@
 // CoupledOscillatorsT<double>): a symbolic P gives the formulas.
 #include "geomint/error.hpp"
 #include "geomint/generic/system.hpp"
-#include "geomint/oscillator.hpp"
+#include "geomint/linear_oscillator.hpp"
+#include "geomint/registry.hpp"
 
 namespace geomint::systems {
 
@@ -37,6 +38,17 @@ struct CoupledOscillatorsT {
     require_nonnegative(kappa, "kappa");
     for (double f : {q10, q20, v10, v20}) require_finite(f, "initial data");
     require_positive(T, "T");
+  }
+  // What the tests expect: contact's O(h) error terms are small against its O(h^2) ones at alpha = 0.1 (~ alpha^2, as
+  // on the oscillator): over h = 0.1 ... 0.0125 it shows order 2 (local orders 1.97, 1.95, 1.89; generic path,
+  // T = 20) and crosses over to its order 1 below (1.77 ... 1.10, then 1.02, 1.00 at h = 0.0002).
+  static Expectations expectations() {
+    Expectations e;
+    e.params = {{"T", 20}};
+    e.halvings = 3;
+    e.orders = {{"contact", 2}};
+    e.why = "h >= 0.0125: contact's O(h) terms (~ alpha^2) are below its O(h^2) terms";
+    return e;
   }
 
   template <class S>

@@ -11,7 +11,7 @@
 
 #include "geomint/error.hpp"
 #include "geomint/generic/system.hpp"
-#include "geomint/oscillator.hpp"
+#include "geomint/linear_oscillator.hpp"
 
 namespace geomint::systems {
 

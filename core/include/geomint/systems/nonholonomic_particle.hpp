@@ -3,7 +3,7 @@
 // -alpha m q', and Bloch's nonholonomic constraint z' = y x', i.e. Phi = a(q).q' with a(q) = (-y, 0, 1)
 // (|a|^2 = 1 + y^2 >= 1: never singular, unlike (13)).
 //
-// Its LA integrator in the shape of (15) (schemes::ParticleLaNh) is the closed-form fast path of the generic
+// Its LA integrator in the shape of (15) (NonholonomicParticle::La) is the closed-form fast path of the generic
 // `la` scheme: forced discrete Euler–Lagrange equations (1) with L_d = h L(q_j, v_j), F_d^- = -alpha m h v_j,
 // v_j = (q_{j+1} - q_j)/h, discrete constraint a(q_j).v_j = 0:
 //   m v_{j-1} - m (1 + h alpha) v_j - h m w2 q_j = lambda a(q_j).
@@ -22,10 +22,6 @@
 #include "geomint/generic/schemes.hpp"
 
 namespace geomint {
-
-namespace schemes {
-struct ParticleLaNh;
-}
 
 namespace systems {
 
@@ -109,32 +105,27 @@ struct NonholonomicParticleT {
     return {s[3], s[4], s[5], a(0), a(1), a(2)};
   }
 
-  using fast_paths = std::tuple<generic::FastPath<generic::LaLeft, schemes::ParticleLaNh>>;
+  // The closed form of `la` (above): (q_j, v_{j-1}) -> (q_{j+1}, v_j); returns lambda_1 / m.
+  struct La {
+    static constexpr const char* name = "particle-la-nh";
+    using solves = generic::LaLeft;
+    template <class T>
+    static T step(const NonholonomicParticle& P, Eigen::Matrix<T, 3, 1>& q, Eigen::Matrix<T, 3, 1>& v, T h) {
+      const Eigen::Matrix<T, 3, 1> a = covector<T>(q);
+      const Eigen::Matrix<T, 3, 1> vs = (v - h * T(P.w2) * q) / (1 + h * T(P.alpha));
+      const T c = a.dot(vs) / a.squaredNorm();
+      v = vs - c * a;
+      q = q + h * v;
+      return (1 + h * T(P.alpha)) * c;
+    }
+  };
+  using fast_paths = std::tuple<La>;
   template <class Closed, class R, class Observer>
   void run_fast(R h, long N, Observer&& observe) const;
 };
 using NonholonomicParticle = NonholonomicParticleT<>;
 
 }  // namespace systems
-
-namespace schemes {
-
-struct ParticleLaNh {
-  static constexpr const char* name = "particle-la-nh";
-  static constexpr int order = 1;
-  // (q_j, v_{j-1}) -> (q_{j+1}, v_j); returns lambda_1 / m.
-  template <class T>
-  static T step(const systems::NonholonomicParticle& P, Eigen::Matrix<T, 3, 1>& q, Eigen::Matrix<T, 3, 1>& v, T h) {
-    const Eigen::Matrix<T, 3, 1> a = systems::NonholonomicParticle::covector<T>(q);
-    const Eigen::Matrix<T, 3, 1> vs = (v - h * T(P.w2) * q) / (1 + h * T(P.alpha));
-    const T c = a.dot(vs) / a.squaredNorm();
-    v = vs - c * a;
-    q = q + h * v;
-    return (1 + h * T(P.alpha)) * c;
-  }
-};
-
-}  // namespace schemes
 
 // The closed form started as the generic LA: p_0 = m v0 at the projected velocity, i.e. v_{-1} = v0; then p_j = m v_{j-1}.
 template <class P>

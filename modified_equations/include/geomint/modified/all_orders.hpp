@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "geomint/oscillator.hpp"
+#include <string>
 
 namespace geomint::modified {
 
@@ -28,11 +28,8 @@ AllOrders all_orders_from_trace_det(long double tr, long double det, long double
 // Round-off level when the recurrence samples that flow exactly.
 double all_orders_deviation(const AllOrders& m, const std::vector<double>& t, const std::vector<double>& q);
 
-template <class Scheme>
-AllOrders all_orders(double h, double alpha) {
-  long double M[2][2];
-  one_step_matrix<Scheme>(h, alpha, M);
-  return all_orders_from_trace_det(M[0][0] + M[1][1], M[0][0] * M[1][1] - M[0][1] * M[1][0], h);
-}
+// The all-orders coefficients of any scheme of the registry's oscillator (by its name or an alias), from its
+// closed form's one-step matrix in long double. InputError for an unknown name.
+AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha);
 
 }  // namespace geomint::modified

@@ -248,10 +248,7 @@ ModifiedSystem make_modified_system() {
   s.constraints = Sys::constraints;
   s.holonomic = generic::has_holonomic_v<Sys>;
   s.has_herglotz = generic::has_herglotz_v<Sys>;
-  std::apply([&](auto... g) {
-    ((generic::applicable<Sys, decltype(g)>() ? (void)s.schemes.push_back(generic::scheme_name<decltype(g)>()) : (void)0),
-     ...);
-  }, generic::AllSchemes{});
+  s.schemes = generic::generic_scheme_names<Sys>();
   s.at = [](const ParamValues& pv, const std::string& scheme, int K, double t, const std::vector<double>& q,
             const std::vector<double>& v, double z, bool check) {
     const Sys sys = generic::make_system<Sys>(pv);
@@ -259,18 +256,18 @@ ModifiedSystem make_modified_system() {
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
     const auto Q = detail::to_vec<Sys::dof>(q, "q");
     const auto V = detail::to_vec<Sys::dof>(v, "v");
-    return generic::visit_scheme<Sys>(scheme, [&](auto g) { return detail::point<Sys, decltype(g)>(sys, K, t, Q, V, z, check); });
+    return generic::visit_generic_scheme<Sys>(scheme, [&](auto g) { return detail::point<Sys, decltype(g)>(sys, K, t, Q, V, z, check); });
   };
   s.agreement = [](const ParamValues& pv, const std::string& scheme, int K, double h, double T, double tol) {
     const Sys sys = generic::make_system<Sys>(pv);
     sys.validate();
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
-    return generic::visit_scheme<Sys>(scheme, [&](auto g) { return detail::agreement_run<Sys, decltype(g)>(sys, K, h, T, tol); });
+    return generic::visit_generic_scheme<Sys>(scheme, [&](auto g) { return detail::agreement_run<Sys, decltype(g)>(sys, K, h, T, tol); });
   };
   s.shoot = [](const ParamValues& pv, const std::string& scheme, int K, double h, double tol) {
     const Sys sys = generic::make_system<Sys>(pv);
     sys.validate();
-    return generic::visit_scheme<Sys>(scheme, [&](auto g) {
+    return generic::visit_generic_scheme<Sys>(scheme, [&](auto g) {
       using G = decltype(g);
       const detail::Engine<Sys, G> me(sys);
       const auto d = detail::discrete_run<Sys, G>(sys, h, 1);

@@ -21,9 +21,6 @@ const char* region_name(Region r);
 
 Region classify(const AllOrders& m, double alpha);
 
-// The one-step map of any registered oscillator scheme by name (throws InputError when unknown).
-AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha);
-
 // The same classification for the one-step map M (2n x 2n, row-major) of any linear system, against the
 // generator C of its continuous flow: unstable if a |mu| > 1; sign flip if a real mu < 0; wrong character if M
 // has a different number of complex-conjugate pairs (oscillating modes) than exp(h C); faithful otherwise. For
@@ -36,7 +33,7 @@ struct LinearMapClass {
   Region region;
   double spectral_radius, decay_ratio, freq_low, freq_high;
 };
-LinearMapClass classify_linear_map(const std::vector<double>& M, const std::vector<double>& C, int N, double h);
+LinearMapClass classify_linear_map(const std::vector<long double>& M, const std::vector<double>& C, int N, double h);
 
 // Analytic trace and determinant of the one-step map, from the schemes' closed forms:
 //   la:          tr = (2 + h a - h^2)/(1 + h a),   det = 1/(1 + h a)

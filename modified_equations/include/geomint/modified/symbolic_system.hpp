@@ -17,16 +17,22 @@
 
 namespace geomint::modified {
 
-// The symbolic instantiation of a system: SysT<GiNaC::ex> for Sys = SysT<double>; unavailable for a system
-// whose header is not (yet) templated on its parameter type.
-template <class Sys>
+// The symbolic instantiation of a system: SysT<GiNaC::ex> for Sys = SysT<double>, or Sys::symbolic<GiNaC::ex>
+// for a system that names it (the Foucault systems, whose double parameters are a physical scene and whose
+// symbols are the combinations the equations use); unavailable for a system that does neither.
+template <class Sys, class = void>
 struct SymbolicOf {
   static constexpr bool available = false;
 };
 template <template <class> class SysT>
-struct SymbolicOf<SysT<double>> {
+struct SymbolicOf<SysT<double>, void> {
   static constexpr bool available = true;
   using type = SysT<GiNaC::ex>;
+};
+template <class Sys>
+struct SymbolicOf<Sys, std::void_t<typename Sys::template symbolic<GiNaC::ex>>> {
+  static constexpr bool available = true;
+  using type = typename Sys::template symbolic<GiNaC::ex>;
 };
 
 // The values of the symbolic parameters at a numeric instance: its fields by name (visit), or, for a system

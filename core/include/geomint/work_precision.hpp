@@ -1,0 +1,123 @@
+#pragma once
+// Work–precision and long-horizon studies as data (the model: DiffEqDevTools' WorkPrecisionSet): one point per
+// (method, knob value) with the errors the study measures, the steps, and the CPU time; a failure is a missing
+// point (NaN errors and times) with its message. And what a set of points is summarised by: the CPU time each
+// method needs to reach a target error, the best geometric scheme against the best adaptive method, the horizon
+// from which the geometric scheme is cheaper, and the slope of log(error) against log(CPU time).
+// Timings are medians of repeats after a warm-up (timing.hpp): never bit-reproducible, never in a test.
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <boost/numeric/odeint/util/odeint_error.hpp>
+
+#include "geomint/error.hpp"
+#include "geomint/record.hpp"
+#include "geomint/timing.hpp"
+
+namespace geomint {
+
+struct WorkPoint {
+  static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  std::string method;   // a scheme (as asked) or a baseline ("odeint-dopri5", ...)
+  std::string family;   // "geometric" (a scheme), "rk" (a fixed-step baseline), "adaptive" (a tolerance)
+  std::string knob;     // "h" or "tol"
+  double group = nan;   // the study's grouping parameter (e.g. alpha); NaN if none
+  double horizon = nan; // the horizon (T or periods); NaN if one
+  double value = nan;   // h or the tolerance
+  long steps = 0;
+  std::vector<double> errors;          // the study's measures, in its order
+  TimingStats time{nan, nan, nan, 0};  // CPU seconds per run
+  std::string failure;                 // why the point is missing ("" when it is not)
+};
+
+// A point before it is measured: the method, its family and knob, the knob's value, and the study's group and
+// horizon (NaN where the study has none).
+inline WorkPoint work_point(std::string method, std::string family, std::string knob, double value,
+                            double group = WorkPoint::nan, double horizon = WorkPoint::nan) {
+  WorkPoint p;
+  p.method = std::move(method);
+  p.family = std::move(family);
+  p.knob = std::move(knob);
+  p.value = value;
+  p.group = group;
+  p.horizon = horizon;
+  return p;
+}
+
+// What a measured run returns: its errors (in the study's order) and its step count.
+struct Measured {
+  std::vector<double> errors;
+  long steps = 0;
+};
+
+// Fills p's errors and steps from measure() and its time from time() (TimingStats). A NumericalFailure, an Odeint
+// failure or a domain error makes the point missing (n_errors NaN errors, NaN times, `reps` repeats), reported on
+// stderr with `context`.
+template <class Measure, class Time>
+WorkPoint measure_point_timed(WorkPoint p, std::size_t n_errors, Measure&& measure, Time&& time, int reps,
+                              const std::string& context) {
+  auto fail = [&](const std::string& what) {
+    report_missing(context, what);
+    p.failure = what;
+    p.errors.assign(n_errors, WorkPoint::nan);
+    p.time = {WorkPoint::nan, WorkPoint::nan, WorkPoint::nan, reps};
+  };
+  try {
+    const Measured m = measure();
+    p.errors = m.errors;
+    p.steps = m.steps;
+    p.time = time();
+  } catch (const NumericalFailure& e) {
+    fail(e.what());
+  } catch (const boost::numeric::odeint::odeint_error& e) {
+    fail(std::string("Odeint: ") + e.what());
+  } catch (const std::domain_error& e) {
+    fail(e.what());
+  }
+  return p;
+}
+
+// The same where one function does both: run(true) measures, run(false) repeats the same work with nothing
+// measured (timed: warm-up, then the median of `reps`).
+template <class Run>
+WorkPoint measure_point(WorkPoint p, std::size_t n_errors, Run&& run, int reps, const std::string& context) {
+  return measure_point_timed(
+      std::move(p), n_errors, [&] { return run(true); },
+      [&] { return time_per_call([&] { do_not_optimize(run(false).steps); }, reps); }, reps, context);
+}
+
+// A measure of a study and the error the summary asks each method to reach.
+struct WorkMeasure {
+  std::string column, label;
+  double target;
+};
+
+// One line of a summary: kind is "seconds_to_target" (method's cheapest time to reach the target; NaN: never),
+// "geometric_over_adaptive" (the ratio of the best of each family), "crossover" (the shortest horizon from which
+// on, at it and every longer one, the best geometric scheme is cheaper than the best adaptive method; NaN: none)
+// or "slope_vs_cpu_time" (the fitted d log(error) / d log(time) over the method's points above 1e-15).
+struct WorkSummaryRow {
+  std::string kind, measure;
+  double target, group, horizon;  // horizon NaN for a crossover
+  std::string method;             // "-" for the family ratio and the crossover
+  double value;
+};
+
+// The summary of a set of points, measure by measure (rows in the order: times to target and ratios per
+// (measure, group, horizon), crossovers per (measure, group), slopes per (horizon, group, method, measure)).
+// Groups in first-seen order, horizons ascending, methods in first-seen order.
+std::vector<WorkSummaryRow> summarise_work(const std::vector<WorkPoint>& points, const std::vector<WorkMeasure>& measures);
+
+// The distinct methods, groups and horizons of a set (first-seen order; horizons ascending).
+std::vector<std::string> work_methods(const std::vector<WorkPoint>& points);
+std::vector<double> work_groups(const std::vector<WorkPoint>& points);
+std::vector<double> work_horizons(const std::vector<WorkPoint>& points);
+
+// The cheapest time of `method` at (group, horizon) whose error `measure` is <= target; INFINITY when none.
+double time_to_target(const std::vector<WorkPoint>& points, const std::string& method, double group, double horizon,
+                      std::size_t measure, double target);
+
+}  // namespace geomint
