@@ -220,7 +220,7 @@ double kepler_anchor_seconds(const KeplerSetting& s, const std::string& method, 
         .median;
   }
   if (is_composition(method)) return find_compositions("kepler").seconds_per_run(params_of(s), method, s.tau, reps);
-  return find_system("kepler").seconds_per_run(params_of(s), method, s.tau, Path::generic, reps);
+  return find_system("kepler").time_run(params_of(s), method, s.tau, Path::generic, reps).median;
 }
 
 }  // namespace geomint

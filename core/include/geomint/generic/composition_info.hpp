@@ -27,21 +27,21 @@ template <class Sys>
 std::vector<std::string> composable_schemes() {
   std::vector<std::string> names;
   std::apply([&](auto... g) { ((composable<Sys, decltype(g)>() ? names.push_back(scheme_name<decltype(g)>()) : void()), ...); },
-             AllSchemes{});
+             AllSchemesTuple{});
   return names;
 }
 
 // Calls f(G{}) for the composable scheme named `base`; InputError naming the composable ones otherwise.
 template <class Sys, std::size_t I = 0, class F>
 decltype(auto) visit_composable(const std::string& base, F&& f) {
-  if constexpr (I == std::tuple_size_v<AllSchemes>) {
+  if constexpr (I == std::tuple_size_v<AllSchemesTuple>) {
     std::string known;
     for (const auto& s : composable_schemes<Sys>()) known += (known.empty() ? "" : ", ") + s;
     throw InputError("scheme '" + base + "' of system '" + Sys::name + "' cannot be composed (symmetric schemes: " +
                      known + ")");
     return f(LaTrapezoid{});  // not reached; gives the return type
   } else {
-    using G = std::tuple_element_t<I, AllSchemes>;
+    using G = std::tuple_element_t<I, AllSchemesTuple>;
     if constexpr (composable<Sys, G>()) {
       if (base == scheme_name<G>()) return f(G{});
     }

@@ -110,13 +110,13 @@ struct NonholonomicParticleT {
     static constexpr const char* name = "particle-la-nh";
     using solves = generic::LaLeft;
     template <class T>
-    static T step(const NonholonomicParticle& P, Eigen::Matrix<T, 3, 1>& q, Eigen::Matrix<T, 3, 1>& v, T h) {
+    static T step(const NonholonomicParticleT& sys, Eigen::Matrix<T, 3, 1>& q, Eigen::Matrix<T, 3, 1>& v, T h) {
       const Eigen::Matrix<T, 3, 1> a = covector<T>(q);
-      const Eigen::Matrix<T, 3, 1> vs = (v - h * T(P.w2) * q) / (1 + h * T(P.alpha));
+      const Eigen::Matrix<T, 3, 1> vs = (v - h * T(sys.w2) * q) / (1 + h * T(sys.alpha));
       const T c = a.dot(vs) / a.squaredNorm();
       v = vs - c * a;
       q = q + h * v;
-      return (1 + h * T(P.alpha)) * c;
+      return (1 + h * T(sys.alpha)) * c;
     }
   };
   using fast_paths = std::tuple<La>;

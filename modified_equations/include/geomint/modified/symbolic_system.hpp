@@ -145,7 +145,7 @@ ModifiedFormulas symbolic_formulas(const ParamValues& pv, const std::string& sch
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
     const Sys numeric = generic::make_system<Sys>(pv);
     numeric.validate();
-    return generic::visit_scheme<Sys>(scheme, [&](auto g) {
+    return generic::visit_generic_scheme<Sys>(scheme, [&](auto g) {
       const SymbolicBudget budget{budget_seconds};
       FormulaSymbols sy(Sys::dof);
       const SymSys sys = symbolic_system<SymSys>(sy);
