@@ -18,6 +18,9 @@ FIGURES   := fig1_oscillator convergence_oscillator backward_error work_precisio
 # Figures of the generic core's systems: one "program arguments..." per line.
 define FIGURE_COMMANDS
 modified_equation --formulas
+modified_equation --system oscillator --order 3 --formulas
+modified_equation --system knife-edge --order 2 --q 0 0 0.3 --v 1 0 0.5 --formulas
+modified_equation --system foucault --scheme la --order 3 --q 0 0.67 --v 3.687e-5 0 --formulas
 convergence --system pendulum
 regularized_error --system forced-oscillator --alpha 0.01 0.1 1 2
 convergence --system forced-oscillator --alpha 0.01 0.1 1 2

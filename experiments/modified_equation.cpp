@@ -18,6 +18,8 @@
 //       ToExpression (Sin[q]); the '#' header lists the symbols,
 //   out/modified_equation_formulas.tex  the same as LaTeX (align* blocks; '%' header lines),
 // and prints the series. A scheme whose budget runs out is written to the order it reached, and says so.
+// Another system than the default pendulum writes the same files prefixed with its name
+// (out/knife-edge_modified_equation.tsv, ...), so that one folder holds the tables of several systems.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -75,7 +77,7 @@ double param_value(const SystemInfo& info, const ParamValues& pv, const std::str
   return std::nan("");
 }
 
-void write_formulas(const std::filesystem::path& dir, const std::string& system, const std::vector<std::string>& schemes,
+void write_formulas(const std::filesystem::path& dir, const std::string& prefix, const std::string& system, const std::vector<std::string>& schemes,
                     Params header, const std::vector<ModifiedFormulas>& forms) {
   header.emplace_back("formulas", "the same engine with GiNaC coefficients: parameters and the point (t, q, qdot, z) symbolic");
   header.emplace_back("syntax", "text: sympy.sympify (powers '^', exact rationals a/b); mathematica: ToExpression");
@@ -105,9 +107,9 @@ void write_formulas(const std::filesystem::path& dir, const std::string& system,
       std::fprintf(stderr, "modified_equation: the formulas of %s stopped at order %d of %d: the budget of %g s ran out\n",
                    schemes[s].c_str(), f.K, f.K_asked, f.budget);
   }
-  TsvWriter txt(dir / "modified_equation_formulas.txt", "modified_equation", header,
+  TsvWriter txt(dir / (prefix + "modified_equation_formulas.txt"), "modified_equation", header,
                 {"system", "scheme", "quantity", "k", "text", "mathematica"});
-  AtomicFile tex(dir / "modified_equation_formulas.tex");
+  AtomicFile tex(dir / (prefix + "modified_equation_formulas.tex"));
   std::FILE* out = tex.handle();
   std::fprintf(out, "%% program: modified_equation\n%% git: %s\n", git_revision());
   for (const auto& [k, v] : header) std::fprintf(out, "%% %s: %s\n", k.c_str(), v.c_str());
@@ -146,7 +148,8 @@ void write_formulas(const std::filesystem::path& dir, const std::string& system,
 
 int main(int argc, char** argv) {
   return guarded_main("modified_equation", [&] {
-    std::string system = "pendulum";
+    const std::string default_system = "pendulum";
+    std::string system = default_system;
     std::vector<std::string> schemes{"la", "contact"}, params;
     int K = 4;
     double t = 0, z = 0;
@@ -194,7 +197,8 @@ int main(int argc, char** argv) {
                                  {"v", format_list(v)},
                                  {"z", format_number(z)},
                                  {"method", "series in (time, h) pushed through the scheme's residual; one solve per order"}});
-    TsvWriter tsv(dir / "modified_equation.tsv", "modified_equation", header,
+    const std::string prefix = system == default_system ? "" : system + "_";
+    TsvWriter tsv(dir / (prefix + "modified_equation.tsv"), "modified_equation", header,
                   {"system", "scheme", "alpha", "k", "component", "value"});
     const double alpha = param_value(info, pv, "alpha");
     std::printf("%s at t = %g, q = %s, q' = %s, z = %g (alpha = %g)\n", system.c_str(), t, format_list(q).c_str(),
@@ -218,7 +222,7 @@ int main(int argc, char** argv) {
       emit(K, "residual", P.residual);
     }
     tsv.commit();
-    if (formulas) write_formulas(dir, system, schemes, header, forms);
+    if (formulas) write_formulas(dir, prefix, system, schemes, header, forms);
     return 0;
   });
 }
