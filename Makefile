@@ -97,7 +97,7 @@ bench: build
 	@echo
 	@$(BUILD)/experiments/bench_formula --systems docs/systems --out $(OUT)
 	@echo
-	@PYTHONPATH=$(BUILD)/python /usr/bin/python3 python/bench_python.py
+	@PYTHONPATH=$(BUILD)/python /usr/bin/python3 experiments/bench_python.py
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

@@ -1,4 +1,5 @@
-"""A million steps called from Python against the same registry call timed in C++ (make bench).
+"""A million steps called from Python against the same registry call timed in C++ (make bench; here, not in
+python/, whose geomint/ without the compiled module would shadow the build's).
 
 The module's integrate() is the registry's run() plus the conversion of its result to numpy arrays; here only
 the first and last steps are kept (every = N), so the difference is the cost of the call itself. Medians of
