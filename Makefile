@@ -6,7 +6,8 @@ JOBS      ?= $(shell nproc 2>/dev/null || echo 2)
 PACKAGES  := cmake make g++ git libeigen3-dev libgsl-dev libboost-dev libboost-program-options-dev \
              libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev catch2 \
              libgnuplot-iostream-dev gnuplot-nox libbenchmark-dev libopenmpi-dev openmpi-bin libginac-dev \
-             pkg-config python3-sympy
+             pkg-config python3-sympy python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest \
+             python3-nbconvert python3-ipykernel
 # Warnings are errors in CI.
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,)
 # The sanitizer build: -O1 with line tables only (what AddressSanitizer recommends) compiles the heavy AD
@@ -83,8 +84,8 @@ test: build
 
 # Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor; the
 # generic step against the closed forms; seconds to derive the modified equations as formulas; a composition step
-# against its stages alone; systems written as formulas against the same systems as headers (Google Benchmark;
-# timings: never part of make test).
+# against its stages alone; systems written as formulas against the same systems as headers (Google Benchmark);
+# a million steps called from Python against the same registry call timed in C++ (timings: never part of make test).
 bench: build
 	@mkdir -p $(OUT)
 	@$(BUILD)/experiments/bench_steps --out $(OUT)
@@ -98,6 +99,8 @@ bench: build
 	@$(BUILD)/experiments/bench_compose --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_formula --systems docs/systems --out $(OUT)
+	@echo
+	@PYTHONPATH=$(BUILD)/python /usr/bin/python3 experiments/bench_python.py
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

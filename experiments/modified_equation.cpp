@@ -2,7 +2,7 @@
 //   q'' = F_0 + h F_1 + ... + h^K F_K   (contact: also z' = Z_0 + h Z_1 + ...; constrained: the modified
 //   multiplier mu_k and the modified constraint Phi_h = sum h^k phi_k on which the discrete solution lies),
 // computed by pushing truncated power series through the scheme's own residual (geomint/modified/automatic.hpp).
-//   modified_equation [--system pendulum] [--scheme la contact] [--order 4] [--t 0] [--q 0.5] [--v 0.3] [--z 0]
+//   modified_equation [--system pendulum | --system-file docs/systems/X.geomint] [--scheme la contact] [--order 4] [--t 0] [--q 0.5] [--v 0.3] [--z 0]
 //                     [--param alpha=0.1 ...] [--out out]
 // Defaults: the damped pendulum at (q, q') = (0.5, 0.3), alpha = 0.1 (its default), K = 4, LA and contact.
 // Writes out/modified_equation.tsv (columns system, scheme, alpha, k, component, value; component F<i> is the
@@ -30,7 +30,9 @@
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
+#include "geomint/formula/formula_registry.hpp"
 #include "geomint/modified/automatic_registry.hpp"
+#include "geomint/modified/formula_modified.hpp"
 #include "geomint/registry.hpp"
 
 using namespace geomint;
@@ -149,7 +151,7 @@ void write_formulas(const std::filesystem::path& dir, const std::string& prefix,
 int main(int argc, char** argv) {
   return guarded_main("modified_equation", [&] {
     const std::string default_system = "pendulum";
-    std::string system = default_system;
+    std::string system = default_system, system_file;
     std::vector<std::string> schemes{"la", "contact"}, params;
     int K = 4;
     double t = 0, z = 0;
@@ -158,6 +160,8 @@ int main(int argc, char** argv) {
     double budget = 60;
     Cli cli("modified_equation", "the modified equation q'' = sum_k h^k F_k of a scheme at a point, to order K");
     cli.options.add_options()("system", po::value(&system)->default_value(system), "system (registry name)")(
+        "system-file", po::value(&system_file),
+        "a system defined by its formulas (a .geomint file, docs/systems/README.md) instead of --system")(
         "scheme", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"), "schemes")(
         "order", po::value(&K)->default_value(K), "order K (0..6)")("t", po::value(&t)->default_value(t), "time")(
         "q", po::value(&q)->multitoken()->default_value(q, "0.5"), "position (n components)")(
@@ -168,8 +172,20 @@ int main(int argc, char** argv) {
         "budget", po::value(&budget)->default_value(budget), "time budget of the formulas, seconds per scheme");
     if (!cli.parse(argc, argv)) return 0;
 
-    const auto& info = find_system(system);
-    const auto& ms = find_modified_system(system);
+    // A system file: its registry entries (the schemes and the modified equations of its shape), alive to the end.
+    std::shared_ptr<const SystemInfo> file_info;
+    std::shared_ptr<const ModifiedSystem> file_ms;
+    if (!system_file.empty()) {
+      for (int i = 1; i < argc; ++i)
+        require(std::string(argv[i]) != "--system" && std::string(argv[i]).rfind("--system=", 0) != 0,
+                "give --system or --system-file, not both");
+      const auto model = formula::load_system_file(system_file);
+      file_info = formula::formula_system_info(model);
+      file_ms = formula_modified_system(model);
+      system = model->name;
+    }
+    const auto& info = file_info ? *file_info : find_system(system);
+    const auto& ms = file_ms ? *file_ms : find_modified_system(system);
     const ParamValues pv = parse_params(params);
     info.validate(pv);
     require(K >= 0 && K <= registry_max_order, "order must be in [0, " + std::to_string(registry_max_order) + "], got " + std::to_string(K));
@@ -190,6 +206,7 @@ int main(int argc, char** argv) {
 
     const auto dir = prepare_output_dir(cli.out);
     Params header = info.header(pv);
+    if (!system_file.empty()) header.insert(header.begin() + 1, {"system_file", system_file});
     header.insert(header.end(), {{"schemes", join_names(schemes)},
                                  {"order", std::to_string(K)},
                                  {"t", format_number(t)},

@@ -1,8 +1,10 @@
 #include "geomint/system_cli.hpp"
 
 #include <cstring>
+#include <memory>
 
 #include "geomint/error.hpp"
+#include "geomint/formula/formula_registry.hpp"
 #include "geomint/io.hpp"
 
 namespace geomint {
@@ -17,16 +19,57 @@ std::string find_system_arg(int argc, char** argv, const std::string& fallback) 
   }
   return name;
 }
+
+// --system-file PATH or --system-file=PATH in argv ("" when absent).
+std::string find_system_file_arg(int argc, char** argv) {
+  std::string path;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--system-file") == 0 && i + 1 < argc) path = argv[i + 1];
+    if (std::strncmp(argv[i], "--system-file=", 14) == 0) path = argv[i] + 14;
+  }
+  return path;
+}
+
+bool has_system_arg(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--system") == 0 || std::strncmp(argv[i], "--system=", 9) == 0) return true;
+  return false;
+}
+
+// The systems read from files by this process, alive as long as it (a program reads at most one), with their paths
+// for the output headers.
+struct LoadedSystem {
+  std::shared_ptr<const SystemInfo> info;
+  std::string path;
+};
+std::vector<LoadedSystem>& loaded_systems() {
+  static std::vector<LoadedSystem> loaded;
+  return loaded;
+}
+
+const SystemInfo& system_from_file(const std::string& path) {
+  auto info = formula::formula_system_info(formula::load_system_file(path));
+  loaded_systems().push_back({info, path});
+  return *info;
+}
 }  // namespace
 
 SystemOptions::SystemOptions(Cli& cli, int argc, char** argv, const std::string& default_system, bool sweep)
     : sweep_(sweep) {
-  system_ = &find_system(find_system_arg(argc, argv, default_system));
+  const std::string file = find_system_file_arg(argc, argv);
+  if (!file.empty()) {
+    require(!has_system_arg(argc, argv), "give --system or --system-file, not both");
+    system_ = &system_from_file(file);
+  } else {
+    system_ = &find_system(find_system_arg(argc, argv, default_system));
+  }
   given_.resize(system_->params.size());
   std::string known;
   for (const auto& s : system_names()) known += (known.empty() ? "" : " ") + s;
   cli.options.add_options()("system", po::value<std::string>()->default_value(default_system),
-                            ("the system (" + known + ")").c_str());
+                            ("the system (" + known + ")").c_str())(
+      "system-file", po::value<std::string>(),
+      "a system defined by its formulas (a .geomint file, docs/systems/README.md) instead of --system");
   po::options_description sys_opts("Parameters of system '" + system_->name + "' (" + system_->description +
                                    (sweep ? "; several values sweep" : "") + ")");
   for (std::size_t i = 0; i < system_->params.size(); ++i) {
@@ -73,6 +116,8 @@ ParamValues SystemOptions::values() const {
 
 std::vector<std::pair<std::string, std::string>> SystemOptions::header() const {
   std::vector<std::pair<std::string, std::string>> out{{"system", system_->name}};
+  for (const auto& l : loaded_systems())
+    if (l.info.get() == system_) out.emplace_back("system_file", l.path);
   for (std::size_t i = 0; i < given_.size(); ++i)
     out.emplace_back(system_->params[i].name,
                      given_[i].empty() ? format_number(system_->params[i].value) : format_list(given_[i]));

@@ -27,6 +27,14 @@
 
 namespace geomint::formula {
 
+// A number of the formulas (its value, and its text as written: "0.1", "pi"; empty where differentiation made it)
+// in the parameter type: P(x). A symbolic type specializes it to keep the number exact (modified/symbolic.hpp's
+// users: 1/10, not the double nearest 0.1).
+template <class P>
+struct FormulaConstant {
+  static P from(double x, const std::string&) { return P(x); }
+};
+
 template <int N, int M = 0, bool Holonomic = false, class P = double>
 class FormulaSystemT {
   static_assert(supported_shape(N, M), "formula systems have 1..4 coordinates and 0..min(2, n - 1) constraint rows");
@@ -42,7 +50,7 @@ class FormulaSystemT {
   explicit FormulaSystemT(std::shared_ptr<const FormulaModel> model) : model_(std::move(model)) {
     check_shape();
     pv_.reserve(static_cast<std::size_t>(model_->table_size()));
-    for (double x : model_->numbers) pv_.push_back(P(x));
+    add_numbers();
     for (const auto& p : model_->parameters) pv_.push_back(P(p.value));
     refresh();
   }
@@ -52,7 +60,7 @@ class FormulaSystemT {
     require(parameters.size() == model_->parameters.size(),
             "system '" + model_->name + "' has " + std::to_string(model_->parameters.size()) + " parameters (" +
                 model_->parameter_names() + "), got " + std::to_string(parameters.size()) + " values");
-    for (double x : model_->numbers) pv_.push_back(P(x));
+    add_numbers();
     for (const P& p : parameters) pv_.push_back(p);
     refresh();
   }
@@ -163,6 +171,10 @@ class FormulaSystemT {
             "system '" + model_->name + "' has n = " + std::to_string(model_->n) + ", m = " + std::to_string(model_->m) +
                 (model_->holonomic ? " (holonomic)" : "") + ", not the shape of this instantiation (n = " + std::to_string(N) +
                 ", m = " + std::to_string(M) + (Holonomic ? ", holonomic" : "") + ")");
+  }
+  void add_numbers() {
+    for (std::size_t i = 0; i < model_->numbers.size(); ++i)
+      pv_.push_back(FormulaConstant<P>::from(model_->numbers[i], i < model_->number_texts.size() ? model_->number_texts[i] : std::string()));
   }
   int index_of(const std::string& pname) const {
     const int i = model_->parameter_index(pname);

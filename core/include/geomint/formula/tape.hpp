@@ -77,7 +77,9 @@ struct mixes<S, P, std::void_t<decltype(std::declval<const S&>() * std::declval<
     : std::bool_constant<std::is_same_v<std::decay_t<decltype(std::declval<const S&>() * std::declval<const P&>())>, S>> {};
 
 // Whether S has tan, atan2 and pow of its own (found by argument-dependent lookup, or in std for the built-in
-// types); the series type of the modified equations has neither tan nor atan2.
+// types); the series type of the modified equations has neither tan nor atan2. A function found that does not
+// give the type back is not the type's own: GiNaC's templates take any argument (so a series over GiNaC::ex finds
+// them by its coefficient type) and return a GiNaC::function or ex, which a series is not.
 namespace adl {
 using std::atan2;
 using std::pow;
@@ -93,17 +95,20 @@ auto try_pow(const S& a, const E& e) -> decltype(pow(a, e));
 template <class S, class = void>
 struct has_tan : std::false_type {};
 template <class S>
-struct has_tan<S, std::void_t<decltype(adl::try_tan(std::declval<const S&>()))>> : std::true_type {};
+struct has_tan<S, std::void_t<decltype(adl::try_tan(std::declval<const S&>()))>>
+    : std::is_convertible<decltype(adl::try_tan(std::declval<const S&>())), S> {};
 
 template <class S, class = void>
 struct has_atan2 : std::false_type {};
 template <class S>
-struct has_atan2<S, std::void_t<decltype(adl::try_atan2(std::declval<const S&>(), std::declval<const S&>()))>> : std::true_type {};
+struct has_atan2<S, std::void_t<decltype(adl::try_atan2(std::declval<const S&>(), std::declval<const S&>()))>>
+    : std::is_convertible<decltype(adl::try_atan2(std::declval<const S&>(), std::declval<const S&>())), S> {};
 
 template <class S, class E, class = void>
 struct has_pow : std::false_type {};
 template <class S, class E>
-struct has_pow<S, E, std::void_t<decltype(adl::try_pow(std::declval<const S&>(), std::declval<const E&>()))>> : std::true_type {};
+struct has_pow<S, E, std::void_t<decltype(adl::try_pow(std::declval<const S&>(), std::declval<const E&>()))>>
+    : std::is_same<std::decay_t<decltype(adl::try_pow(std::declval<const S&>(), std::declval<const E&>()))>, S> {};
 
 // Dual overloads first (more specialized), so that the generic ones below find them for nested duals.
 template <class T, int N, class P>

@@ -1,0 +1,37 @@
+#pragma once
+// A system defined by its formulas as a registry entry (registry.hpp's SystemInfo): every program and study that
+// takes a registered system by its SystemInfo takes a formula system read at run time too (--system-file, the
+// Python module), with no C++ written and nothing rebuilt.
+//
+// The registry's operations are plain function pointers, compiled from a system's type; a formula system's type is
+// its shape (n, m, holonomic), and its formulas are data. So the schemes are compiled once per shape listed in
+// core/src/formula/shapes.def (one generated translation unit each, like a header system's), and an entry's
+// operations are small trampolines that run the shape's operation with the entry's model as the call's model
+// (registered_system.hpp). A shape not listed is an InputError naming that file: adding one is one line there.
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geomint/formula/model.hpp"
+#include "geomint/registry.hpp"
+
+namespace geomint::formula {
+
+// How many formula entries may be alive at once (each holds one set of trampolines).
+inline constexpr std::size_t max_formula_entries = 32;
+
+// The registry entry of `model`; the entry lives as long as the returned pointer (or a copy of it). Its schemes
+// are the core's, without the contact schemes when the model has no Herglotz Lagrangian; its parameters are the
+// model's, its references Boost.Odeint on the equations derived from the formulas.
+std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const FormulaModel> model);
+
+// The Herglotz Lagrangian checked against the force at these parameter values (FormulaSystemT::warnings): empty,
+// or one message. Every shape (the check runs at run-time dimensions, checks.hpp).
+std::vector<std::string> formula_warnings(const std::shared_ptr<const FormulaModel>& model, const ParamValues& values);
+
+// Whether the build compiled the shape, and the compiled shapes for messages ("n = 1, m = 0; ...").
+bool formula_shape_compiled(int n, int m, bool holonomic);
+std::string compiled_formula_shapes();
+
+}  // namespace geomint::formula

@@ -1,0 +1,123 @@
+#include "geomint/formula/formula_registry.hpp"
+
+#include <algorithm>
+#include <mutex>
+#include <vector>
+
+#include "geomint/error.hpp"
+#include "geomint/formula/entry_slots.hpp"
+#include "geomint/formula/formula_call.hpp"
+#include "geomint/formula/formula_system.hpp"
+
+namespace geomint::formula {
+
+namespace {
+thread_local std::shared_ptr<const FormulaModel> call_model;
+thread_local std::string call_name, call_description;
+
+void install(const std::shared_ptr<const FormulaModel>& m) {
+  call_model = m;
+  call_name = m ? m->name : std::string();
+  call_description = m ? m->description : std::string();
+}
+}  // namespace
+
+FormulaCall::FormulaCall(std::shared_ptr<const FormulaModel> model) : previous_(call_model) {
+  require(model != nullptr, "formula system without a model");
+  install(model);
+}
+FormulaCall::~FormulaCall() { install(previous_); }
+
+const std::shared_ptr<const FormulaModel>& FormulaCall::model() {
+  require(call_model != nullptr, "a formula system's operation was called outside its registry entry");
+  return call_model;
+}
+const std::string& FormulaCall::name() { return call_name; }
+const std::string& FormulaCall::description() { return call_description; }
+
+// One declaration per line of shapes.def; each is defined in the shape's generated translation unit.
+#define GEOMINT_FORMULA_SHAPE(N, M, H, modified) SystemInfo make_formula_shape_info_##N##_##M##_##H();
+#include "formula/shapes.def"
+#undef GEOMINT_FORMULA_SHAPE
+
+namespace {
+
+struct Shape {
+  int n, m;
+  bool holonomic;
+  SystemInfo (*make)();
+};
+
+const std::vector<Shape>& shapes() {
+  static const std::vector<Shape> all = {
+#define GEOMINT_FORMULA_SHAPE(N, M, H, modified) {N, M, H != 0, make_formula_shape_info_##N##_##M##_##H},
+#include "formula/shapes.def"
+#undef GEOMINT_FORMULA_SHAPE
+  };
+  return all;
+}
+
+// The shape's operations, built once (the builder reads the defaults of a model of that shape: the first one).
+const SystemInfo& shape_info(std::size_t index, const std::shared_ptr<const FormulaModel>& model) {
+  static std::vector<std::once_flag> once(shapes().size());
+  static std::vector<SystemInfo> built(shapes().size());
+  std::call_once(once[index], [&] {
+    const FormulaCall call(model);
+    built[index] = shapes()[index].make();
+  });
+  return built[index];
+}
+
+}  // namespace
+
+std::vector<std::string> formula_warnings(const std::shared_ptr<const FormulaModel>& model, const ParamValues& values) {
+  return with_formula_system(model, [&](auto sys) {
+    for (const auto& [name, x] : values) sys.set_parameter(name, x);
+    return sys.warnings();
+  });
+}
+
+bool formula_shape_compiled(int n, int m, bool holonomic) {
+  for (const auto& s : shapes())
+    if (s.n == n && s.m == m && (m == 0 || s.holonomic == holonomic)) return true;
+  return false;
+}
+
+std::string compiled_formula_shapes() {
+  std::string out;
+  for (const auto& s : shapes())
+    out += (out.empty() ? "" : "; ") + std::string("n = ") + std::to_string(s.n) + ", m = " + std::to_string(s.m) +
+           (s.holonomic ? " holonomic" : "");
+  return out;
+}
+
+std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const FormulaModel> model) {
+  require(model != nullptr, "formula system without a model");
+  std::size_t index = shapes().size();
+  for (std::size_t i = 0; i < shapes().size(); ++i) {
+    const Shape& s = shapes()[i];
+    if (s.n == model->n && s.m == model->m && (s.m == 0 || s.holonomic == model->holonomic)) index = i;
+  }
+  require(index < shapes().size(),
+          "system '" + model->name + "' has n = " + std::to_string(model->n) + ", m = " + std::to_string(model->m) +
+              (model->holonomic ? " (holonomic)" : "") + ": this build compiles formula systems of the shapes " +
+              compiled_formula_shapes() + " (one line in core/src/formula/shapes.def adds a shape)");
+  const SystemInfo& shape = shape_info(index, model);
+  SystemInfo entry = shape;
+  entry.name = model->name;
+  entry.description = model->description;
+  entry.has_herglotz = model->has_herglotz();
+  entry.params.clear();
+  for (const auto& p : model->parameters) entry.params.push_back({p.name, p.value, p.doc});
+  if (!model->has_herglotz())  // the shape compiles them; this model cannot run them
+    entry.schemes.erase(std::remove_if(entry.schemes.begin(), entry.schemes.end(),
+                                       [](const SchemeInfo& s) { return s.principle.rfind("discrete Herglotz", 0) == 0; }),
+                        entry.schemes.end());
+  return EntrySlots<SystemInfo>::acquire<&SystemInfo::validate, &SystemInfo::horizon, &SystemInfo::run, &SystemInfo::max_error,
+                                         &SystemInfo::max_relative_error, &SystemInfo::reference,
+                                         &SystemInfo::seconds_per_run, &SystemInfo::ode, &SystemInfo::ode_initial_state,
+                                         &SystemInfo::one_step_matrix, &SystemInfo::continuous_matrix>(model, &shape,
+                                                                                                        std::move(entry));
+}
+
+}  // namespace geomint::formula

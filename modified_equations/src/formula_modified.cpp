@@ -1,0 +1,80 @@
+#include "geomint/modified/formula_modified.hpp"
+
+#include <algorithm>
+#include <mutex>
+#include <vector>
+
+#include "geomint/error.hpp"
+#include "geomint/formula/entry_slots.hpp"
+#include "geomint/formula/formula_call.hpp"
+#include "geomint/formula/formula_registry.hpp"
+
+namespace geomint::modified {
+
+// One declaration per shape of shapes.def marked for modified equations (defined in its generated translation
+// unit); the builder of an unmarked shape is null.
+#define GEOMINT_MODIFIED_0(N, M, H) nullptr
+#define GEOMINT_MODIFIED_1(N, M, H) make_formula_modified_##N##_##M##_##H
+#define GEOMINT_DECLARE_0(N, M, H)
+#define GEOMINT_DECLARE_1(N, M, H) ModifiedSystem make_formula_modified_##N##_##M##_##H();
+#define GEOMINT_FORMULA_SHAPE(N, M, H, modified) GEOMINT_DECLARE_##modified(N, M, H)
+#include "formula/shapes.def"
+#undef GEOMINT_FORMULA_SHAPE
+
+namespace {
+
+struct Shape {
+  int n, m;
+  bool holonomic, modified;
+  ModifiedSystem (*make)();
+};
+
+const std::vector<Shape>& shapes() {
+  static const std::vector<Shape> all = {
+#define GEOMINT_FORMULA_SHAPE(N, M, H, modified) {N, M, H != 0, modified != 0, GEOMINT_MODIFIED_##modified(N, M, H)},
+#include "formula/shapes.def"
+#undef GEOMINT_FORMULA_SHAPE
+  };
+  return all;
+}
+
+const ModifiedSystem& shape_record(std::size_t index, const std::shared_ptr<const formula::FormulaModel>& model) {
+  static std::vector<std::once_flag> once(shapes().size());
+  static std::vector<ModifiedSystem> built(shapes().size());
+  std::call_once(once[index], [&] {
+    const formula::FormulaCall call(model);
+    built[index] = shapes()[index].make();
+  });
+  return built[index];
+}
+
+}  // namespace
+
+std::shared_ptr<const ModifiedSystem> formula_modified_system(std::shared_ptr<const formula::FormulaModel> model) {
+  require(model != nullptr, "formula system without a model");
+  std::size_t index = shapes().size();
+  std::string marked;
+  for (std::size_t i = 0; i < shapes().size(); ++i) {
+    const Shape& s = shapes()[i];
+    if (!s.modified) continue;
+    marked += (marked.empty() ? "" : "; ") + std::string("n = ") + std::to_string(s.n) + ", m = " + std::to_string(s.m) +
+              (s.holonomic ? " holonomic" : "");
+    if (s.n == model->n && s.m == model->m && (s.m == 0 || s.holonomic == model->holonomic)) index = i;
+  }
+  require(index < shapes().size(),
+          "system '" + model->name + "' has n = " + std::to_string(model->n) + ", m = " + std::to_string(model->m) +
+              (model->holonomic ? " (holonomic)" : "") + ": this build compiles the modified equations of formula systems of the shapes " +
+              marked + " (core/src/formula/shapes.def marks a shape for them)");
+  const ModifiedSystem& shape = shape_record(index, model);
+  ModifiedSystem entry = shape;
+  entry.name = model->name;
+  entry.has_herglotz = model->has_herglotz();
+  if (!model->has_herglotz())  // the core's contact schemes are the ones named contact*
+    entry.schemes.erase(std::remove_if(entry.schemes.begin(), entry.schemes.end(),
+                                       [](const std::string& s) { return s.rfind("contact", 0) == 0; }),
+                        entry.schemes.end());
+  return formula::EntrySlots<ModifiedSystem>::acquire<&ModifiedSystem::at, &ModifiedSystem::agreement, &ModifiedSystem::shoot,
+                                                      &ModifiedSystem::formulas>(model, &shape, std::move(entry));
+}
+
+}  // namespace geomint::modified

@@ -1,0 +1,537 @@
+// The geomint Python module (_geomint; python/geomint/__init__.py re-exports it): the registry's systems and the
+// studies a notebook needs, on the registry's type-erased entry points only (registry.hpp, formula_registry.hpp,
+// automatic_registry.hpp, study.hpp), so this one translation unit instantiates no scheme and follows the registry
+// wherever it goes. Every loop runs in C++ (with the GIL released); results come back as numpy arrays; an
+// InputError is geomint.InputError (a ValueError), a NumericalFailure geomint.NumericalFailure (an ArithmeticError
+// with .step and .quantity), each with the C++ message. Nothing a user passes is executed: formulas go to
+// geomint's own parser.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geomint/error.hpp"
+#include "geomint/formula/description.hpp"
+#include "geomint/formula/formula_registry.hpp"
+#include "geomint/formula/model.hpp"
+#include "geomint/io.hpp"
+#include "geomint/modified/automatic_registry.hpp"
+#include "geomint/modified/formula_modified.hpp"
+#include "geomint/registry.hpp"
+#include "geomint/study.hpp"
+#include "geomint/timing.hpp"
+
+namespace py = pybind11;
+using namespace geomint;
+
+namespace {
+
+using Array = py::array_t<double>;
+
+// A copy of v as a numpy array of the given shape (rows x cols, or a vector when cols < 0).
+Array to_array(const std::vector<double>& v, long rows, long cols = -1) {
+  if (cols < 0) {
+    Array a(static_cast<py::ssize_t>(v.size()));
+    std::copy(v.begin(), v.end(), a.mutable_data());
+    return a;
+  }
+  require(static_cast<long>(v.size()) == rows * cols, "internal: array of " + std::to_string(v.size()) + " values is not " +
+                                                          std::to_string(rows) + " x " + std::to_string(cols));
+  Array a({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+template <class T>
+py::array_t<T> to_int_array(const std::vector<T>& v) {
+  py::array_t<T> a(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+// Parameters from a dict {name: number}; the system refuses unknown names itself (InputError naming the known).
+ParamValues param_values(const py::dict& params) {
+  ParamValues pv;
+  for (const auto& [k, v] : params) {
+    const std::string name = py::cast<std::string>(k);
+    double x = 0;
+    try {
+      x = py::cast<double>(v);
+    } catch (const py::cast_error&) {
+      throw InputError("parameter " + name + ": not a number");
+    }
+    pv.emplace_back(name, x);
+  }
+  return pv;
+}
+
+// A system of the registry or defined by formulas, with its modified equations where the build has them.
+class System {
+ public:
+  // A header system (the registry's entries live as long as the process).
+  explicit System(const SystemInfo& info) : info_(std::shared_ptr<const SystemInfo>(), &info) {}
+  explicit System(std::shared_ptr<const formula::FormulaModel> model)
+      : model_(std::move(model)), info_(formula::formula_system_info(model_)) {}
+
+  const SystemInfo& info() const { return *info_; }
+  bool is_formula() const { return model_ != nullptr; }
+
+  const modified::ModifiedSystem& modified() const {
+    if (!modified_) {
+      if (model_)
+        modified_ = modified::formula_modified_system(model_);
+      else
+        modified_ = std::shared_ptr<const modified::ModifiedSystem>(std::shared_ptr<const modified::ModifiedSystem>(),
+                                                                     &modified::find_modified_system(info_->name));
+    }
+    return *modified_;
+  }
+
+  std::vector<std::string> warnings(const ParamValues& pv) const {
+    if (!model_) return {};
+    return formula::formula_warnings(model_, pv);
+  }
+
+ private:
+  std::shared_ptr<const formula::FormulaModel> model_;
+  std::shared_ptr<const SystemInfo> info_;
+  mutable std::shared_ptr<const modified::ModifiedSystem> modified_;
+};
+
+py::dict run_dict(const Run& run) {
+  const long rows = static_cast<long>(run.t.size());
+  py::dict d;
+  d["j"] = to_int_array(run.j);
+  d["t"] = to_array(run.t, rows);
+  d["q"] = to_array(run.q, rows, run.n);
+  d["p"] = to_array(run.p, rows, run.n);
+  d["v"] = to_array(run.v, rows, run.n);
+  d["z"] = to_array(run.z, rows);
+  d["lambda"] = to_array(run.lambda, rows, run.m);
+  d["energy"] = to_array(run.energy, rows);
+  d["phi_d"] = to_array(run.phi_d, rows);
+  d["phi"] = to_array(run.phi, rows);
+  d["newton"] = to_int_array(run.newton);
+  d["steps"] = run.steps;
+  d["newton_mean"] = run.newton_mean;
+  d["max_phi_d"] = run.max_phi_d;
+  return d;
+}
+
+py::dict integrate(const System& s, const std::string& scheme, double h, const py::dict& params, const std::string& path,
+                   long every) {
+  const SystemInfo& sys = s.info();
+  const ParamValues pv = param_values(params);
+  sys.scheme(scheme);
+  require_positive(h, "h");
+  require(every >= 1, "every must be a positive integer, got " + std::to_string(every));
+  const Path p = parse_path(path);
+  Run run;
+  {
+    py::gil_scoped_release release;
+    run = sys.run(pv, scheme, h, p, every);
+  }
+  return run_dict(run);
+}
+
+py::dict reference(const System& s, double h, long N, const std::string& kind, double tol, const py::dict& params) {
+  const SystemInfo& sys = s.info();
+  const ParamValues pv = param_values(params);
+  require_positive(h, "h");
+  const ReferenceKind k = parse_reference(kind);
+  check_reference(sys, k, tol);
+  if (N <= 0) N = step_count(h, sys.horizon(pv));
+  Reference ref;
+  {
+    py::gil_scoped_release release;
+    ref = sys.reference(pv, h, N, k, tol);
+  }
+  std::vector<double> t(static_cast<std::size_t>(ref.N + 1));
+  for (long j = 0; j <= ref.N; ++j) t[static_cast<std::size_t>(j)] = static_cast<double>(j) * ref.h;
+  py::dict d;
+  d["t"] = to_array(t, ref.N + 1);
+  d["q"] = to_array(ref.q, ref.N + 1, ref.n);
+  d["kind"] = ref.kind;
+  return d;
+}
+
+std::vector<std::string> scheme_list(const SystemInfo& sys, const std::vector<std::string>& asked) {
+  if (asked.empty()) return sys.scheme_names();
+  for (const auto& n : asked) sys.scheme(n);
+  return asked;
+}
+
+// Errors against h (halving from h_max to <= h_min) for each scheme, observed and fitted orders: what the
+// convergence program computes (the same registry calls), as arrays.
+py::dict convergence(const System& s, const std::vector<std::string>& schemes_asked, double h_max, double h_min,
+                     const py::dict& params, const std::string& path, const std::string& ref_name, double tol) {
+  const SystemInfo& sys = s.info();
+  const ParamValues pv = param_values(params);
+  const auto schemes = scheme_list(sys, schemes_asked);
+  const Path p = parse_path(path);
+  const ReferenceKind k = parse_reference(ref_name);
+  check_reference(sys, k, tol);
+  require_positive(h_max, "h_max");
+  require_positive(h_min, "h_min");
+  const auto hs = halving_sequence(h_max, h_min);
+  const double T = sys.horizon(pv);
+  std::vector<std::vector<double>> errs(schemes.size());
+  std::vector<std::string> failures(schemes.size());
+  std::string kind;
+  {
+    py::gil_scoped_release release;
+    const Reference ref = sys.reference(pv, hs.back(), step_count(hs.back(), T), k, tol);
+    kind = ref.kind;
+    for (std::size_t i = 0; i < schemes.size(); ++i)
+      for (double h : hs) {
+        double e;
+        try {
+          e = sys.max_error(pv, schemes[i], h, p, ref);
+        } catch (const NumericalFailure& f) {  // a missing value, as in the program; the message is kept
+          e = std::nan("");
+          if (failures[i].empty()) failures[i] = f.what();
+        }
+        errs[i].push_back(e);
+      }
+  }
+  std::vector<long> steps;
+  for (double h : hs) steps.push_back(step_count(h, T));
+  py::dict err, observed, fitted, expected, points, failed;
+  for (std::size_t i = 0; i < schemes.size(); ++i) {
+    const auto fit = fit_order(hs, errs[i]);
+    err[py::str(schemes[i])] = to_array(errs[i], static_cast<long>(hs.size()));
+    observed[py::str(schemes[i])] = to_array(observed_orders(hs, errs[i]), static_cast<long>(hs.size()));
+    fitted[py::str(schemes[i])] = fit.slope;
+    points[py::str(schemes[i])] = fit.points;
+    expected[py::str(schemes[i])] = sys.scheme(schemes[i]).order;
+    if (!failures[i].empty()) failed[py::str(schemes[i])] = failures[i];
+  }
+  py::dict d;
+  d["h"] = to_array(hs, static_cast<long>(hs.size()));
+  d["steps"] = to_int_array(steps);
+  d["error"] = err;
+  d["observed_order"] = observed;
+  d["fitted_order"] = fitted;
+  d["points"] = points;
+  d["expected_order"] = expected;
+  d["failures"] = failed;
+  d["reference"] = kind;
+  return d;
+}
+
+// Error and CPU seconds of one run against h, per scheme (the work–precision study's raw data).
+py::dict work_precision(const System& s, const std::vector<std::string>& schemes_asked, const std::vector<double>& hs,
+                        const py::dict& params, const std::string& path, int reps, const std::string& ref_name, double tol) {
+  const SystemInfo& sys = s.info();
+  const ParamValues pv = param_values(params);
+  const auto schemes = scheme_list(sys, schemes_asked);
+  const Path p = parse_path(path);
+  const ReferenceKind k = parse_reference(ref_name);
+  check_reference(sys, k, tol);
+  require(!hs.empty(), "work_precision needs at least one h");
+  for (double h : hs) require_positive(h, "h");
+  require(reps >= 1, "reps must be a positive integer");
+  const double T = sys.horizon(pv);
+  double h_fine = hs.front();
+  for (double h : hs) h_fine = std::min(h_fine, h);
+  // the reference on the finest grid must hold every coarser one: each h a multiple of the finest
+  std::vector<std::vector<double>> errs(schemes.size()), secs(schemes.size());
+  std::string kind;
+  {
+    py::gil_scoped_release release;
+    const Reference ref = sys.reference(pv, h_fine, step_count(h_fine, T), k, tol);
+    kind = ref.kind;
+    for (std::size_t i = 0; i < schemes.size(); ++i)
+      for (double h : hs) {
+        errs[i].push_back(sys.max_error(pv, schemes[i], h, p, ref));
+        secs[i].push_back(sys.seconds_per_run(pv, schemes[i], h, p, reps));
+      }
+  }
+  py::dict err, sec;
+  for (std::size_t i = 0; i < schemes.size(); ++i) {
+    err[py::str(schemes[i])] = to_array(errs[i], static_cast<long>(hs.size()));
+    sec[py::str(schemes[i])] = to_array(secs[i], static_cast<long>(hs.size()));
+  }
+  py::dict d;
+  d["h"] = to_array(hs, static_cast<long>(hs.size()));
+  d["error"] = err;
+  d["seconds"] = sec;
+  d["reference"] = kind;
+  return d;
+}
+
+std::vector<double> point_or_initial(const System& s, const ParamValues& pv, const std::vector<double>& given, bool velocity) {
+  if (!given.empty()) return given;
+  // the initial data, from the continuous equations' consistent initial state (q, q')
+  const auto x = s.info().ode_initial_state(pv);
+  const auto n = static_cast<std::size_t>(s.info().dof);
+  return velocity ? std::vector<double>(x.begin() + static_cast<long>(n), x.end()) : std::vector<double>(x.begin(), x.begin() + static_cast<long>(n));
+}
+
+py::dict modified_equation(const System& s, const std::string& scheme, int K, double t, const std::vector<double>& q_in,
+                           const std::vector<double>& v_in, double z, const py::dict& params) {
+  const ParamValues pv = param_values(params);
+  s.info().validate(pv);
+  s.info().scheme(scheme);
+  const auto q = point_or_initial(s, pv, q_in, false), v = point_or_initial(s, pv, v_in, true);
+  const auto& ms = s.modified();
+  modified::ModifiedPoint r;
+  {
+    py::gil_scoped_release release;
+    r = ms.at(pv, scheme, K, t, q, v, z, true);
+  }
+  py::dict d;
+  d["K"] = r.K;
+  d["F"] = to_array(r.F, r.K + 1, r.n);
+  d["Z"] = to_array(r.Z, static_cast<long>(r.Z.size()));
+  d["mu"] = to_array(r.mu, r.m > 0 ? static_cast<long>(r.mu.size()) / r.m : 0, r.m);
+  d["phi"] = to_array(r.phi, r.m > 0 ? static_cast<long>(r.phi.size()) / r.m : 0, r.m);
+  d["phi_dot"] = to_array(r.phi_dot, r.m > 0 ? static_cast<long>(r.phi_dot.size()) / r.m : 0, r.m);
+  d["lagrangian"] = to_array(r.lagrangian, static_cast<long>(r.lagrangian.size()));
+  d["residual"] = r.residual;
+  d["t"] = t;
+  d["q"] = to_array(q, static_cast<long>(q.size()));
+  d["v"] = to_array(v, static_cast<long>(v.size()));
+  d["z"] = z;
+  return d;
+}
+
+py::dict modified_formulas(const System& s, const std::string& scheme, int K, double budget, const py::dict& params) {
+  const ParamValues pv = param_values(params);
+  s.info().scheme(scheme);
+  require(std::isfinite(budget) && budget > 0, "budget must be a positive number of seconds");
+  const auto& ms = s.modified();
+  modified::ModifiedFormulas f;
+  {
+    py::gil_scoped_release release;
+    f = ms.formulas(pv, scheme, K, budget);
+  }
+  py::list rows;
+  for (const auto& r : f.rows) {
+    py::dict row;
+    row["quantity"] = r.quantity;
+    row["k"] = r.k;
+    row["text"] = r.text;
+    row["mathematica"] = r.mathematica;
+    row["latex"] = r.latex;
+    rows.append(row);
+  }
+  py::dict d;
+  d["K"] = f.K;
+  d["K_asked"] = f.K_asked;
+  d["stopped"] = f.stopped;
+  d["seconds"] = f.seconds;
+  d["symbols"] = f.symbols;
+  d["values"] = f.values;
+  d["rows"] = rows;
+  return d;
+}
+
+py::dict modified_agreement(const System& s, const std::string& scheme, int K, double h, double T, double tol,
+                            const py::dict& params) {
+  const ParamValues pv = param_values(params);
+  s.info().scheme(scheme);
+  if (!(T > 0)) T = s.info().horizon(pv);
+  const auto& ms = s.modified();
+  modified::ModifiedAgreement a;
+  {
+    py::gil_scoped_release release;
+    a = ms.agreement(pv, scheme, K, h, T, tol);
+  }
+  py::dict d;
+  d["steps"] = a.steps;
+  d["err_q"] = a.err_q;
+  d["err_z"] = a.err_z;
+  d["v_shift"] = a.v_shift;
+  d["shoot_miss"] = a.shoot_miss;
+  d["phi_d"] = a.phi_d;
+  d["phi_h0"] = a.phi_h0;
+  d["phi_h_drift"] = a.phi_h_drift;
+  d["err_mu"] = a.err_mu;
+  return d;
+}
+
+// A formula given from Python: a string (written as a user would), or a number (its shortest exact decimal).
+formula::FormulaText formula_of(const py::handle& x, const std::string& field) {
+  if (py::isinstance<py::str>(x)) return formula::formula_text(py::cast<std::string>(x), field);
+  if (py::isinstance<py::float_>(x) || py::isinstance<py::int_>(x))
+    return formula::formula_text(py::cast<std::string>(py::repr(py::float_(py::reinterpret_borrow<py::object>(x)))), field);
+  throw InputError(field + ": a formula is a string or a number");
+}
+
+std::vector<formula::FormulaText> formula_list(const py::object& xs, const std::string& base) {
+  std::vector<formula::FormulaText> out;
+  if (xs.is_none()) return out;
+  if (py::isinstance<py::str>(xs)) throw InputError(base + ": a list of formulas, one per component");
+  int i = 1;
+  for (const auto& x : xs) out.push_back(formula_of(x, base + std::to_string(i++)));
+  return out;
+}
+
+System define_system(const std::string& name, int coordinates, const py::object& L, const py::object& herglotz,
+                     const py::object& force, const py::object& energy, const py::object& constraints, bool holonomic,
+                     const py::dict& parameters, const py::dict& definitions, const py::object& initial_q,
+                     const py::object& initial_v, const std::string& description, bool strict_herglotz) {
+  formula::SystemDescription d;
+  d.name = name;
+  d.description = description;
+  d.coordinates = coordinates;
+  d.origin.source = "define_system(" + name + ")";
+  for (const auto& [k, v] : parameters) {
+    formula::ParameterText p;
+    p.name = py::cast<std::string>(k);
+    if (py::isinstance<py::tuple>(v) || py::isinstance<py::list>(v)) {  // (value, doc)
+      const auto seq = py::reinterpret_borrow<py::sequence>(v);
+      require(seq.size() == 2, "parameter " + p.name + ": a value, or (value, doc)");
+      p.value = formula_of(seq[0], "parameter " + p.name);
+      p.doc = py::cast<std::string>(seq[1]);
+    } else {
+      p.value = formula_of(v, "parameter " + p.name);
+    }
+    d.parameters.push_back(std::move(p));
+  }
+  for (const auto& [k, v] : definitions) {
+    const std::string n = py::cast<std::string>(k);
+    d.definitions.push_back({n, formula_of(v, n)});
+  }
+  d.lagrangian = formula_of(L, "L");
+  if (!herglotz.is_none()) d.herglotz = formula_of(herglotz, "herglotz");
+  if (!energy.is_none()) d.energy = formula_of(energy, "E");
+  d.force = formula_list(force, "F");
+  d.constraint_kind = holonomic ? formula::ConstraintKind::holonomic : formula::ConstraintKind::velocity;
+  d.constraints = formula_list(constraints, holonomic ? "g" : "phi");
+  d.initial_q = formula_list(initial_q, "q");
+  d.initial_v = formula_list(initial_v, "v");
+  formula::CompileOptions options;
+  options.strict_herglotz = strict_herglotz;
+  return System(formula::compile_model(d, options));
+}
+
+System load_system(const std::string& path, bool strict_herglotz) {
+  formula::CompileOptions options;
+  options.strict_herglotz = strict_herglotz;
+  return System(formula::load_system_file(path, options));
+}
+
+// C++ timing of the same registry call as integrate (nothing converted to numpy): the bench's floor.
+double seconds_of_run(const System& s, const std::string& scheme, double h, const py::dict& params, const std::string& path,
+                      long every, int reps) {
+  const ParamValues pv = param_values(params);
+  const Path p = parse_path(path);
+  py::gil_scoped_release release;
+  const auto st = time_median([&] { do_not_optimize(s.info().run(pv, scheme, h, p, every).steps); }, reps);
+  return st.median;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_geomint, m) {
+  m.doc() = "geomint: geometric integrators of dissipative and nonholonomic systems, with backward-error analysis";
+
+  static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
+  static py::exception<NumericalFailure> numerical_failure(m, "NumericalFailure", PyExc_ArithmeticError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const NumericalFailure& e) {
+      py::object err = py::reinterpret_borrow<py::object>(numerical_failure.ptr())(e.what());  // an instance
+      err.attr("step") = e.step;
+      err.attr("quantity") = e.quantity;
+      PyErr_SetObject(numerical_failure.ptr(), err.ptr());
+    } catch (const InputError& e) {
+      input_error(e.what());
+    }
+  });
+
+  m.def("systems", &system_names, "names of the systems of the registry (their C++ headers)");
+  m.def("git_revision", [] { return std::string(git_revision()); }, "the git revision the module was built from");
+  m.def("compiled_formula_shapes", &formula::compiled_formula_shapes,
+        "the shapes (n, m) of systems defined by formulas this build runs (core/src/formula/shapes.def)");
+
+  py::class_<System>(m, "System", "a system: its parameters, schemes and studies")
+      .def_property_readonly("name", [](const System& s) { return s.info().name; })
+      .def_property_readonly("description", [](const System& s) { return s.info().description; })
+      .def_property_readonly("dof", [](const System& s) { return s.info().dof; })
+      .def_property_readonly("constraints", [](const System& s) { return s.info().constraints; })
+      .def_property_readonly("has_herglotz", [](const System& s) { return s.info().has_herglotz; })
+      .def_property_readonly("has_exact", [](const System& s) { return s.info().has_exact; })
+      .def_property_readonly("from_formulas", &System::is_formula)
+      .def_property_readonly(
+          "parameters",
+          [](const System& s) {
+            py::dict d;
+            for (const auto& p : s.info().params) d[py::str(p.name)] = py::make_tuple(p.value, p.doc);
+            return d;
+          },
+          "{name: (default, doc)}")
+      .def_property_readonly(
+          "schemes",
+          [](const System& s) {
+            py::dict d;
+            for (const auto& sc : s.info().schemes) {
+              py::dict e;
+              e["principle"] = sc.principle;
+              e["quadrature"] = sc.quadrature;
+              e["order"] = sc.order;
+              e["fast_path"] = sc.fast_path;
+              d[py::str(sc.name)] = e;
+            }
+            return d;
+          },
+          "{name: {principle, quadrature, order, fast_path}}")
+      .def(
+          "validate", [](const System& s, const py::dict& params) { s.info().validate(param_values(params)); },
+          py::arg("params") = py::dict(), "InputError naming the first bad value")
+      .def(
+          "horizon", [](const System& s, const py::dict& params) { return s.info().horizon(param_values(params)); },
+          py::arg("params") = py::dict())
+      .def(
+          "warnings", [](const System& s, const py::dict& params) { return s.warnings(param_values(params)); },
+          py::arg("params") = py::dict(), "a formula system's Herglotz form against its force (empty when they agree)")
+      .def("integrate", &integrate, py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(), py::arg("path") = "fast",
+           py::arg("every") = 1,
+           "N = T/h steps of `scheme`, every `every`-th kept: {j, t, q, p, v, z, lambda, energy, phi_d, phi, newton} "
+           "as arrays (q, p, v: rows x n; lambda: rows x m), and steps, newton_mean, max_phi_d")
+      .def("reference", &reference, py::arg("h"), py::arg("N") = 0, py::arg("kind") = "auto", py::arg("tol") = 1e-13,
+           py::arg("params") = py::dict(), "the reference solution on t_j = j h (closed form, or Boost.Odeint)")
+      .def("convergence", &convergence, py::arg("schemes") = std::vector<std::string>{}, py::arg("h_max") = 0.1,
+           py::arg("h_min") = 0.003, py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reference") = "auto",
+           py::arg("tol") = 1e-13, "max_j |q_j - q_ref(t_j)| against h, observed and least-squares orders")
+      .def("work_precision", &work_precision, py::arg("schemes") = std::vector<std::string>{}, py::arg("h"),
+           py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reps") = 3, py::arg("reference") = "auto",
+           py::arg("tol") = 1e-13, "error and median CPU seconds of one run, against h")
+      .def("modified_equation", &modified_equation, py::arg("scheme"), py::arg("order") = 4, py::arg("t") = 0.0,
+           py::arg("q") = std::vector<double>{}, py::arg("v") = std::vector<double>{}, py::arg("z") = 0.0,
+           py::arg("params") = py::dict(),
+           "q'' = sum_k h^k F_k at (t, q, q', z) (default: the initial data); also Z, mu, phi, the modified Lagrangian")
+      .def("modified_formulas", &modified_formulas, py::arg("scheme"), py::arg("order") = 4, py::arg("budget") = 60.0,
+           py::arg("params") = py::dict(), "the modified equation as formulas (text, Mathematica, LaTeX), every parameter a symbol")
+      .def("modified_agreement", &modified_agreement, py::arg("scheme"), py::arg("order"), py::arg("h"), py::arg("T") = 0.0,
+           py::arg("tol") = 1e-13, py::arg("params") = py::dict(),
+           "step-by-step agreement of the discrete solution with the order-K modified solution")
+      .def("__repr__", [](const System& s) {
+        return "<geomint.System " + s.info().name + ": n = " + std::to_string(s.info().dof) + ", m = " +
+               std::to_string(s.info().constraints) + (s.is_formula() ? ", from formulas>" : ">");
+      });
+
+  m.def("system", [](const std::string& name) { return System(find_system(name)); }, py::arg("name"),
+        "a system of the registry by name");
+  m.def("load_system", &load_system, py::arg("path"), py::arg("strict_herglotz") = false,
+        "a system from a .geomint file (docs/systems/README.md)");
+  m.def("define_system", &define_system, py::arg("name"), py::arg("coordinates"), py::arg("L"), py::arg("herglotz") = py::none(),
+        py::arg("force") = py::none(), py::arg("energy") = py::none(), py::arg("constraints") = py::none(),
+        py::arg("holonomic") = false, py::arg("parameters") = py::dict(), py::arg("definitions") = py::dict(),
+        py::arg("initial_q") = py::none(), py::arg("initial_v") = py::none(), py::arg("description") = "",
+        py::arg("strict_herglotz") = false,
+        "a system from its formulas (strings; numbers for constants): the Lagrangian L, the Herglotz Lagrangian, the "
+        "force (n formulas), the constraint rows (phi: linear in v1..vn; or holonomic g), parameters {name: value or "
+        "(value, doc)} with T the horizon, definitions, and the initial q and v");
+  m.def("_seconds_of_run", &seconds_of_run, py::arg("system"), py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(),
+        py::arg("path") = "fast", py::arg("every") = 1, py::arg("reps") = 5,
+        "median seconds of the registry's run timed in C++ (the bench's reference for integrate called from Python)");
+}

@@ -1,0 +1,223 @@
+"""The geomint module against the C++ programs (the same registry calls: the same text in their files, cell for
+cell), against the scheme orders (fitted slopes), and on bad input (exceptions with the C++ message).
+
+Run by ctest (python/CMakeLists.txt) with PYTHONPATH=build/python, GEOMINT_BIN_DIR (the programs) and
+GEOMINT_SOURCE_DIR (docs/systems) set.
+"""
+
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import geomint
+
+BIN = os.environ.get("GEOMINT_BIN_DIR", "build/experiments")
+SRC = os.environ.get("GEOMINT_SOURCE_DIR", ".")
+
+
+def system_file(name):
+    return os.path.join(SRC, "docs", "systems", name + ".geomint")
+
+
+def program(name, *args, out):
+    """Runs a geomint program (arguments as a list: nothing goes through a shell) writing into out."""
+    cmd = [os.path.join(BIN, name), *[str(a) for a in args], "--out", str(out)]
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    return done
+
+
+def text(x):
+    """A number as the programs write it (io.cpp format_number: 15 significant digits)."""
+    if np.isnan(x):
+        return "nan"
+    return "%.15g" % x
+
+
+def same_text(values, column):
+    """Every value, printed as the programs print it, equals the file's cell (read back through read_tsv)."""
+    values = np.ravel(values)
+    assert len(values) == len(column)
+    mismatches = [(i, text(a), text(b)) for i, (a, b) in enumerate(zip(values, column)) if text(a) != text(b)]
+    assert not mismatches, mismatches[:5]
+
+
+# ---------------------------------------------------------------------------------------------------------
+# integrate: the program's table, cell for cell, for a header system and for a system file
+
+
+@pytest.mark.parametrize(
+    "how, args, scheme",
+    [
+        ("header", ["--system", "pendulum"], "contact"),
+        ("file", ["--system-file", system_file("knife-edge")], "la"),
+    ],
+)
+def test_integrate_is_the_program(tmp_path, how, args, scheme):
+    params = {"alpha": 0.3, "T": 5}
+    program("integrate", *args, "--scheme", scheme, "--h", 0.05, "--path", "generic", "--alpha", 0.3, "--T", 5,
+            out=tmp_path)
+    sys = geomint.system("pendulum") if how == "header" else geomint.load_system(system_file("knife-edge"))
+    run = sys.integrate(scheme, h=0.05, params=params, path="generic")
+    table = geomint.read_tsv(tmp_path / f"{sys.name}_{scheme}.tsv")
+    # the header as a dict: the program, the system (and its file), the parameters as given
+    assert table.meta["program"] == "integrate"
+    assert table.meta["system"] == sys.name
+    assert table.meta["alpha"] == "0.3"
+    assert table.meta["steps"] == "100" == str(run["steps"])
+    if how == "file":
+        assert table.meta["system_file"] == system_file("knife-edge")
+    n, m = sys.dof, sys.constraints
+    assert run["q"].shape == (101, n) and run["lambda"].shape == (101, m)
+    comp = (lambda base, i: base) if n == 1 else (lambda base, i: f"{base}{i + 1}")
+    np.testing.assert_array_equal(run["j"], table["j"])
+    same_text(run["t"], table["t"])
+    for i in range(n):
+        for base in ("q", "p", "v"):
+            same_text(run[base][:, i], table[comp(base, i)])
+    for c in range(m):
+        same_text(run["lambda"][:, c], table["lambda" if m == 1 else f"lambda{c + 1}"])
+    for col in ("z", "energy", "phi_d", "phi"):
+        same_text(run[col], table[col])
+    np.testing.assert_array_equal(run["newton"], table["newton"])
+
+
+def test_formula_file_steps_to_the_header_bits():
+    # the pendulum file associates as its header: the generic steps are the same bits (tests/formula_systems)
+    header = geomint.system("pendulum").integrate("la-midpoint", h=0.02, params={"alpha": 0.2, "T": 4}, path="generic")
+    formula = geomint.load_system(system_file("pendulum")).integrate(
+        "la-midpoint", h=0.02, params={"alpha": 0.2, "T": 4}, path="generic")
+    for key in ("q", "p", "z", "energy"):
+        np.testing.assert_array_equal(header[key], formula[key])
+    assert np.max(np.abs(header["q"])) > 0.1  # a real motion
+
+
+# ---------------------------------------------------------------------------------------------------------
+# convergence: the program's numbers, and the orders of the schemes
+
+
+def test_convergence_is_the_program(tmp_path):
+    program("convergence", "--system-file", system_file("pendulum"), "--schemes", "la", "contact-trapezoid",
+            "--h-max", 0.1, "--h-min", 0.01, "--T", 5, out=tmp_path)
+    c = geomint.load_system(system_file("pendulum")).convergence(
+        ["la", "contact-trapezoid"], h_max=0.1, h_min=0.01, params={"T": 5})
+    rows = geomint.read_tsv(tmp_path / "pendulum_convergence.tsv")
+    fits = geomint.read_tsv(tmp_path / "pendulum_convergence_fits.tsv")
+    assert fits.meta["system_file"] == system_file("pendulum")
+    for scheme in ("la", "contact-trapezoid"):
+        keep = rows["scheme"] == scheme
+        same_text(c["h"], rows["h"][keep])
+        same_text(c["error"][scheme], rows["err_max"][keep])
+        same_text([c["fitted_order"][scheme]], fits["fitted_order"][fits["scheme"] == scheme])
+
+
+def duffing():
+    # a system no header has: the damped Duffing oscillator, its Herglotz form consistent with the force
+    return geomint.define_system(
+        "duffing", coordinates=1,
+        L="v1^2/2 - q1^2/2 - b*q1^4/4", herglotz="L - alpha*z", force=["-alpha*v1"],
+        parameters={"alpha": (0.2, "Rayleigh damping"), "b": (0.5, "hardening"), "T": (5, "horizon")},
+        initial_q=["1"], initial_v=["0"])
+
+
+def test_a_system_defined_in_python_converges_at_every_schemes_order():
+    sys = duffing()
+    assert sys.warnings() == []
+    # from h = 0.025 down: contact's observed order is 0.67 between h = 0.1 and 0.05 and reaches 0.99 only below
+    # h = 0.01 (pre-asymptotic), which a fit from h = 0.1 would average in (0.91)
+    c = sys.convergence(h_max=0.025, h_min=0.002)
+    assert set(c["fitted_order"]) == {"la", "contact", "la-midpoint", "la-trapezoid", "contact-trapezoid"}
+    for scheme, order in c["fitted_order"].items():
+        assert abs(order - c["expected_order"][scheme]) < 0.1, (scheme, order)
+    assert c["reference"].startswith("Boost.Odeint")
+
+
+def test_work_precision_errors_are_the_convergence_errors():
+    sys = geomint.system("oscillator")
+    hs = [0.1, 0.05, 0.025]
+    wp = sys.work_precision(["la"], h=hs, reps=1, reference="exact")
+    c = sys.convergence(["la"], h_max=0.1, h_min=0.025, reference="exact")
+    np.testing.assert_array_equal(wp["error"]["la"], c["error"]["la"])
+    assert np.all(wp["seconds"]["la"] > 0)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# modified equations: the program's coefficients, and the formulas
+
+
+def test_modified_equation_is_the_program(tmp_path):
+    program("modified_equation", "--system", "pendulum", "--scheme", "la", "contact", "--order", 4, "--q", 0.5, "--v", 0.3,
+            out=tmp_path)
+    table = geomint.read_tsv(tmp_path / "modified_equation.tsv")
+    sys = geomint.system("pendulum")
+    for scheme in ("la", "contact"):
+        me = sys.modified_equation(scheme, order=4, q=[0.5], v=[0.3])
+        keep = (table["scheme"] == scheme) & (table["component"] == "F0")
+        same_text(me["F"][:, 0], table["value"][keep])
+
+
+def test_modified_equation_of_the_formula_file_is_the_headers():
+    header = geomint.system("pendulum").modified_equation("contact", order=4, q=[0.4], v=[-0.2], z=0.1, params={"alpha": 0.3})
+    formula = geomint.load_system(system_file("pendulum")).modified_equation(
+        "contact", order=4, q=[0.4], v=[-0.2], z=0.1, params={"alpha": 0.3})
+    np.testing.assert_array_equal(header["F"], formula["F"])
+    np.testing.assert_array_equal(header["Z"], formula["Z"])
+    assert formula["residual"] < 1e-12
+
+
+def test_modified_formulas_of_a_defined_system():
+    sympy = pytest.importorskip("sympy")
+    f = duffing().modified_formulas("la", order=2)
+    assert f["K"] == 2 and not f["stopped"]
+    rows = {(r["quantity"], r["k"]): r["text"] for r in f["rows"]}
+    q, qdot, alpha, b, h = sympy.symbols("q qdot alpha b h")
+    # F_0 is the continuous equation: q'' = -q - b q^3 - alpha q'
+    assert sympy.simplify(sympy.sympify(rows[("F", 0)]) - (-q - b * q**3 - alpha * qdot)) == 0
+    # F_1 is the numeric coefficient at the same point (the formula evaluated at the parameters' values)
+    point = duffing().modified_equation("la", order=2, q=[0.7], v=[0.2])
+    values = dict(f["values"])
+    f1 = sympy.sympify(rows[("F", 1)]).subs({q: 0.7, qdot: 0.2, alpha: values["alpha"], b: values["b"]})
+    assert abs(float(f1) - point["F"][1, 0]) < 1e-14 * (1 + abs(point["F"][1, 0]))
+
+
+# ---------------------------------------------------------------------------------------------------------
+# bad input: Python exceptions with the C++ message
+
+
+def test_errors_carry_the_cpp_message():
+    sys = geomint.system("pendulum")
+    with pytest.raises(geomint.InputError, match="unknown scheme 'leapfrog'.*known: la"):
+        sys.integrate("leapfrog", h=0.1)
+    with pytest.raises(ValueError, match="no parameter 'beta'"):
+        sys.integrate("la", h=0.1, params={"beta": 1})
+    with pytest.raises(geomint.InputError, match="h must be a positive"):
+        sys.integrate("la", h=-1)
+    with pytest.raises(geomint.InputError, match="L, column 13: formula ends"):
+        geomint.define_system("bad", coordinates=1, L="v1^2/2 - q1*", parameters={"T": 1}, initial_q=["0"], initial_v=["1"])
+    with pytest.raises(geomint.InputError, match="unknown"):
+        geomint.define_system("bad", coordinates=1, L="v1^2/2 - k*q1^2", parameters={"T": 1}, initial_q=["0"], initial_v=["1"])
+
+
+def test_a_numerical_failure_names_its_step():
+    # q'' = q^3 leaves every bound in finite time (t = sqrt(2)/q0 = 0.47 from rest at q0 = 3): the step that
+    # meets the non-finite state is named
+    blowup = geomint.define_system("blowup", coordinates=1, L="v1^2/2 + q1^4/4", parameters={"T": 2},
+                                   initial_q=["3"], initial_v=["0"])
+    with pytest.raises(geomint.NumericalFailure) as failure:
+        blowup.integrate("la", h=0.01)
+    assert failure.value.step > 0
+    assert f"step {failure.value.step}" in str(failure.value)
+    assert "blowup" in str(failure.value)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# read_tsv
+
+
+def test_read_tsv_refuses_a_ragged_row(tmp_path):
+    p = tmp_path / "ragged.tsv"
+    p.write_text("# program: x\na\tb\n1\t2\n3\n")
+    with pytest.raises(ValueError, match="ragged.tsv:4: 1 cells"):
+        geomint.read_tsv(p)

@@ -1,0 +1,115 @@
+// Systems defined by formulas as registry entries (formula_registry.hpp, formula_modified.hpp): the entry of a
+// formula file runs what its header's entry runs, bit for bit where the typed formula system does
+// (tests/formula_systems.test.cpp: pendulum, knife edge), through the same registry calls the programs and the
+// Python module make; its modified equations are the header's; the slots are given back.
+#include <catch2/catch.hpp>
+
+#include <memory>
+#include <vector>
+
+#include "geomint/error.hpp"
+#include "geomint/formula/formula_registry.hpp"
+#include "geomint/modified/formula_modified.hpp"
+#include "geomint/registry.hpp"
+
+using namespace geomint;
+
+namespace {
+
+std::string system_file(const std::string& name) { return std::string(GEOMINT_SOURCE_DIR) + "/docs/systems/" + name + ".geomint"; }
+
+// Every scheme of the header, generic path: the formula entry's run and error equal the header's.
+void same_as_header(const std::string& name, const ParamValues& pv, double h) {
+  const auto entry = formula::formula_system_info(formula::load_system_file(system_file(name)));
+  const SystemInfo& header = find_system(name);
+  CHECK(entry->name == name);
+  CHECK(entry->dof == header.dof);
+  CHECK(entry->constraints == header.constraints);
+  REQUIRE(entry->scheme_names() == header.scheme_names());
+  const Reference ref = header.reference(pv, h / 2, step_count(h / 2, header.horizon(pv)), ReferenceKind::odeint, 1e-12);
+  for (const auto& scheme : header.scheme_names()) {
+    INFO(name << ", " << scheme);
+    const Run a = entry->run(pv, scheme, h, Path::generic, 1), b = header.run(pv, scheme, h, Path::generic, 1);
+    REQUIRE(a.steps == b.steps);
+    CHECK(a.q == b.q);
+    CHECK(a.p == b.p);
+    CHECK(a.z == b.z);
+    CHECK(a.lambda == b.lambda);
+    CHECK(a.energy == b.energy);
+    CHECK(a.phi_d == b.phi_d);
+    CHECK(entry->max_error(pv, scheme, h, Path::generic, ref) == header.max_error(pv, scheme, h, Path::generic, ref));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("a formula file's registry entry runs its header's bits", "[formula][registry]") {
+  same_as_header("pendulum", {{"alpha", 0.3}, {"q0", 1.2}, {"T", 4}}, 0.05);
+  same_as_header("knife-edge", {{"alpha", 0.3}, {"omega0", 0.7}, {"T", 4}}, 0.05);
+}
+
+TEST_CASE("a formula entry's parameters, schemes and messages are its model's", "[formula][registry]") {
+  // no Herglotz Lagrangian: no contact scheme offered
+  const auto model = formula::compile_model([] {
+    formula::SystemDescription d;
+    d.name = "quartic";
+    d.coordinates = 1;
+    d.lagrangian = formula::formula_text("v1^2/2 - k*q1^4/4", "L");
+    d.parameters.push_back({"k", formula::formula_text("2", "parameter k"), "stiffness"});
+    d.parameters.push_back({"T", formula::formula_text("3", "parameter T"), "horizon"});
+    d.initial_q.push_back(formula::formula_text("1", "q1"));
+    d.initial_v.push_back(formula::formula_text("0", "v1"));
+    return d;
+  }());
+  const auto entry = formula::formula_system_info(model);
+  CHECK(entry->scheme_names() == std::vector<std::string>{"la", "la-midpoint", "la-trapezoid"});
+  REQUIRE(entry->params.size() == 2);
+  CHECK(entry->params[0].name == "k");
+  CHECK(entry->params[0].value == 2);
+  CHECK(entry->horizon({}) == 3);
+  CHECK(entry->horizon({{"T", 5}}) == 5);
+  CHECK_THROWS_WITH(entry->run({{"c", 1}}, "la", 0.1, Path::generic, 1), Catch::Contains("system 'quartic' has no parameter 'c'"));
+  CHECK_THROWS_WITH(entry->run({}, "leapfrog", 0.1, Path::generic, 1), Catch::Contains("unknown scheme 'leapfrog' for system 'quartic'"));
+  // a shape this build does not compile: one line naming the file that adds it
+  CHECK_THROWS_WITH(formula::formula_system_info(formula::load_system_file(system_file("rolling-disk"))),
+                    Catch::Contains("core/src/formula/shapes.def"));
+}
+
+TEST_CASE("formula entries give their slots back", "[formula][registry]") {
+  const auto model = formula::load_system_file(system_file("pendulum"));
+  std::vector<std::shared_ptr<const SystemInfo>> alive;
+  // whatever other entries are alive, the slots fill up and the next one is refused
+  for (std::size_t i = 0; i <= formula::max_formula_entries; ++i) {
+    try {
+      alive.push_back(formula::formula_system_info(model));
+    } catch (const InputError& e) {
+      CHECK_THAT(e.what(), Catch::Contains("alive at once"));
+      break;
+    }
+  }
+  CHECK(alive.size() <= formula::max_formula_entries);
+  CHECK_THROWS_AS(formula::formula_system_info(model), InputError);
+  // each slot runs its own model: the last entry still runs the pendulum
+  const double T0 = alive.back()->horizon({});
+  alive.pop_back();
+  const auto again = formula::formula_system_info(model);
+  CHECK(again->horizon({}) == T0);
+}
+
+TEST_CASE("a formula file's modified equations are its header's, through the registry", "[formula][registry][modified]") {
+  const auto entry = modified::formula_modified_system(formula::load_system_file(system_file("pendulum")));
+  const auto& header = modified::find_modified_system("pendulum");
+  CHECK(entry->schemes == header.schemes);
+  const ParamValues pv{{"alpha", 0.3}};
+  for (const auto& scheme : header.schemes) {
+    INFO(scheme);
+    const auto a = entry->at(pv, scheme, 4, 0.3, {0.4}, {-0.2}, 0.1, true);
+    const auto b = header.at(pv, scheme, 4, 0.3, {0.4}, {-0.2}, 0.1, true);
+    CHECK(a.F == b.F);
+    CHECK(a.Z == b.Z);
+    CHECK(a.lagrangian == b.lagrangian);
+    CHECK(a.residual <= 1e-12 * (1 + std::abs(a.F[0])));
+  }
+  CHECK_THROWS_WITH(modified::formula_modified_system(formula::load_system_file(system_file("knife-edge"))),
+                    Catch::Contains("shapes.def"));
+}
