@@ -249,7 +249,7 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
     for (std::size_t i = 0; i < schemes.size(); ++i)
       for (double h : hs) {
         errs[i].push_back(sys.max_error(pv, schemes[i], h, p, ref));
-        secs[i].push_back(sys.seconds_per_run(pv, schemes[i], h, p, reps));
+        secs[i].push_back(sys.time_run(pv, schemes[i], h, p, reps).median);
       }
   }
   py::dict err, sec;
