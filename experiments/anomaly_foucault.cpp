@@ -1,4 +1,4 @@
-// Where the Foucault schemes fail (issue 6, items 2-4): the plane-jump anomaly of Section 3.2 measured on
+// Where the Foucault schemes fail: the plane-jump anomaly of Section 3.2 measured on
 // ensembles instead of one run, its cause tested against a prediction from the discrete constraint, the
 // worst cases rerun in long double and quad precision, and the remedy (the "rotation" discretization of
 // (13), foucault.hpp) measured with the same ensembles.

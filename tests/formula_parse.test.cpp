@@ -18,17 +18,25 @@ using namespace geomint;
 using formula::FormulaSystem;
 
 // Allocation counting for the "no allocation per evaluation" test: the global operator new of the test binary
-// counts the allocations of this thread while `counting` is set (and otherwise only forwards to malloc, as the
-// default one does: the default operator delete, free, stays its match).
+// counts the allocations of this thread while `counting` is set and otherwise only forwards to malloc, as the
+// default one does (the default operator delete, free, stays its match). Not under AddressSanitizer, which
+// replaces operator new and delete in all their forms itself: there the test says it cannot count.
 namespace {
 thread_local bool counting = false;
 thread_local long allocations = 0;
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool can_count = false;
+#else
+constexpr bool can_count = true;
+#endif
 }  // namespace
+#if !defined(__SANITIZE_ADDRESS__)
 void* operator new(std::size_t n) {
   if (counting) ++allocations;
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
+#endif
 
 namespace {
 
@@ -253,7 +261,10 @@ TEST_CASE("an evaluation allocates nothing", "[formula][parse]") {
     sink += fs.lagrangian(DD(0.1), QQ, VV).d[1].d[2];
   }
   counting = false;
-  CHECK(allocations == 0);
+  if (can_count)
+    CHECK(allocations == 0);
+  else
+    WARN("allocations are not counted under AddressSanitizer");
   CHECK(std::isfinite(sink));
 }
 

@@ -1,4 +1,4 @@
-// Where the Foucault schemes fail (issue 6): the plane-jump prediction from the paper's discrete constraint
+// Where the Foucault schemes fail: the plane-jump prediction from the paper's discrete constraint
 // against measurement, the detector on a synthetic trajectory, the remedy ("rotation" discretization of (13))
 // at round-off, without jumps and at its order, the long double / quad reruns, the ensemble machinery and
 // the program.

@@ -1,4 +1,4 @@
-// Long-horizon structure (issue 14): the measures of core/include/geomint/long_horizon.hpp recover the exact
+// Long-horizon structure: the measures of core/include/geomint/long_horizon.hpp recover the exact
 // values on the closed-form solution and the one-step spectra of the schemes; the one-step maps contract
 // phase-space area by exactly their derived determinant.
 #include <cmath>

@@ -1,4 +1,4 @@
-// The long-horizon programs (issue 14): bad input is one line and exit 2 with nothing written; the error files are
+// The long-horizon programs: bad input is one line and exit 2 with nothing written; the error files are
 // the same bits for the same command (timings live in the separate *_timings.tsv).
 #include <catch2/catch.hpp>
 

@@ -230,6 +230,8 @@ class Compiler {
   bool fusion(int inner, int outer, Op& op) const {
     if (!state_) return false;  // constant tapes are evaluated once per parameter set
     const Node& y = ex_[outer];
+    // only the four arithmetic operations fuse; a unary node has no second operand to read (its b is -1)
+    if (y.kind != Kind::add && y.kind != Kind::sub && y.kind != Kind::mul && y.kind != Kind::div) return false;
     const bool plain = plain_product(inner), mixed = mixed_product(inner);
     if (!plain && !mixed) return false;
     if (y.a == y.b) return false;
