@@ -105,7 +105,7 @@ bench: build
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps
 	@cmake -S . -B $(BUILD)-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo '-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$(SANITIZE_OPT)' \
-	  -DGEOMINT_SANITIZE=ON $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,) > /dev/null
+	  -DGEOMINT_SANITIZE=ON -DGEOMINT_SYMBOLIC=OFF $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,) > /dev/null
 	@cmake --build $(BUILD)-sanitize -j$(JOBS)
 	@cd $(BUILD)-sanitize && ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure --no-tests=error -j$(JOBS)

@@ -399,7 +399,7 @@ TEST_CASE("every system file in docs/systems loads into the shape of its formula
   }
 }
 
-TEST_CASE("bench_formula refuses a missing formula file with one line, exit 2, nothing written", "[formula][parse][errors]") {
+TEST_CASE("bench_formula refuses a missing formula file with one line, exit 2, nothing written", "[formula][parse][errors][bench]") {
   testing::check_rejected("bench_formula", "--systems /nonexistent --reps 3", "cannot read system file '/nonexistent/pendulum.geomint'");
   testing::check_rejected("bench_formula", "--reps 1", "reps must be in [3, 1000]");
 }

@@ -39,11 +39,14 @@ TEST_CASE("generic programs refuse bad input with one line, exit 2, and write no
       {"stability_oscillator", "--system coupled-oscillators --alpha 0.1", "alpha is an axis of the map"},
       {"stability_oscillator", "--q0 1", "take no system parameters"},
       {"stability_oscillator", "--system coupled-oscillators --schemes nosuch", "unknown scheme 'nosuch'"},
-      {"bench_generic", "--steps 10", "steps must be in"},
-      {"bench_generic", "--reps 1", "reps must be in"},
-      {"bench_generic", "--benchmark_nosuch=1", "unrecognised benchmark flag"},
   };
   for (const auto& b : bad) check_rejected(b.program, b.args, b.expect);
+}
+
+TEST_CASE("bench_generic rejects bad options with one line, exit 2", "[programs][generic][bench]") {
+  check_rejected("bench_generic", "--steps 10", "steps must be in");
+  check_rejected("bench_generic", "--reps 1", "reps must be in");
+  check_rejected("bench_generic", "--benchmark_nosuch=1", "unrecognised benchmark flag");
 }
 
 TEST_CASE("integrate writes the trajectory with the discrete constraint at round-off", "[programs][generic]") {

@@ -243,6 +243,12 @@ struct ProgramCase {
   const char* blowup;  // "" when the program has no run that can blow up
 };
 
+// modified_equation's formulas are staged with its table where the build has them (not in the sanitizer build)
+#if GEOMINT_SYMBOLIC
+#define GEOMINT_PROBE_FORMULAS " --formulas"
+#else
+#define GEOMINT_PROBE_FORMULAS ""
+#endif
 const ProgramCase table[] = {
 #include "probe_table.inc"
 };

@@ -39,8 +39,6 @@ const BadInput bad_inputs[] = {
     {"backward_error", "--T 0", "T must be a positive"},
     {"work_precision", "--alpha nan", "alpha must be a non-negative"},
     {"work_precision", "--reps 0", "reps must be in"},
-    {"bench_steps", "--steps 10", "steps must be at least"},
-    {"bench_steps", "--reps 1", "reps must be at least"},
     {"stability_oscillator", "--n 2", "n must be in"},
     {"stability_oscillator", "--h-min 0", "h-min must be a positive"},
     {"stability_oscillator", "--h-min 1 --h-max 0.5", "h-max must be finite and exceed"},
@@ -55,6 +53,12 @@ TEST_CASE("programs reject bad input with one line, exit 2, and write nothing", 
   for (const auto& b : bad_inputs) check_rejected(b.program, b.args, b.expect);
 }
 
+TEST_CASE("bench_steps rejects bad input with one line, exit 2, and answers --help", "[programs][bench]") {
+  check_rejected("bench_steps", "--steps 10", "steps must be at least");
+  check_rejected("bench_steps", "--reps 1", "reps must be at least");
+  CHECK(run_program("bench_steps", "--help").exit_code == 0);
+}
+
 TEST_CASE("an unwritable output folder is refused", "[programs]") {
   const auto dir = fresh_dir("unwritable");
   std::ofstream(dir / "file") << "x";  // a file where a folder should be
@@ -65,7 +69,7 @@ TEST_CASE("an unwritable output folder is refused", "[programs]") {
 }
 
 TEST_CASE("--help prints usage and exits 0", "[programs]") {
-  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error", "work_precision", "bench_steps", "stability_oscillator", "work_precision_foucault"}) {
+  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error", "work_precision", "stability_oscillator", "work_precision_foucault"}) {
     const auto r = run_program(p, "--help");
     INFO(p);
     CHECK(r.exit_code == 0);
