@@ -41,6 +41,15 @@ struct Outcome {
   bool timed_out = false;
   std::string err;
   int lines() const { return static_cast<int>(std::count(err.begin(), err.end(), '\n')); }
+  // The lines of the program, without the warnings Open MPI's libevent may print as mpiexec tears a job down
+  // ("[warn] Epoll MOD(1) on fd ..."): what a one-line refusal under mpiexec is counted by.
+  int program_lines() const {
+    std::istringstream in(err);
+    std::string line;
+    int n = 0;
+    while (std::getline(in, line)) n += line.rfind("[warn] ", 0) != 0;
+    return n;
+  }
   std::string last_line() const {
     std::string e = err;
     while (!e.empty() && e.back() == '\n') e.pop_back();
@@ -778,7 +787,7 @@ TEST_CASE("probe (MPI): bad input under mpiexec -n 2 is one line in all, and not
       const auto o = mpi(program, plus(args, {"--out", (base / "out").string()}), base);
       INFO(program << " " << Catch::Detail::stringify(args) << " -> exit " << o.exit_code << ": " << o.err);
       CHECK(o.exit_code == 2);
-      CHECK(o.lines() == 1);
+      CHECK(o.program_lines() == 1);
       CHECK(o.err.rfind(program + ": error: ", 0) == 0);
       CHECK(o.err.find(expect) != std::string::npos);
       CHECK(!fs::exists(base / "out"));
@@ -949,7 +958,7 @@ TEST_CASE("probe (MPI): a sweep into a busy folder is refused on every rank, at 
     INFO("launcher aborts: " << launcher_aborts << " -> exit " << o.exit_code << ": " << o.err);
     CHECK(!o.timed_out);  // no rank left waiting for rank 0
     CHECK(o.exit_code == (launcher_aborts ? 2 : 0));
-    CHECK(o.lines() == 1);
+    CHECK(o.program_lines() == 1);
     CHECK(o.err.find("is in use by another run") != std::string::npos);
     CHECK(snapshot(out) == before);
   }
@@ -971,7 +980,7 @@ TEST_CASE("probe (MPI): a commit that fails on rank 0 ends the job with one line
   INFO("exit " << o.exit_code << ": " << o.err);
   CHECK(!o.timed_out);
   CHECK(o.exit_code == 1);
-  CHECK(o.lines() == 1);
+  CHECK(o.program_lines() == 1);
   CHECK(o.err.find("Input/output error (the previous outputs are unchanged)") != std::string::npos);
   CHECK(snapshot(out) == before);
   CHECK(temporaries(out).empty());
