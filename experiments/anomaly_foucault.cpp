@@ -14,7 +14,7 @@
 // (the largest jumps rerun in double, long double and quad up to just past the jump), and the figures
 // anomaly_foucault_{probability,runs,cause}.{png,pdf}, drawn from those files. The defaults (40000 runs,
 // 1.1e10 steps, ~1.2 ns per trajectory-step on the vectorized ensembles) take ~8 s on 2 cores. Larger sweeps run
-// on a cluster under mpirun (README): the ranks share the runs, rank 0 writes the same files.
+// on a cluster under mpirun (docs/cluster.md): the ranks share the runs, rank 0 writes the same files.
 #include <algorithm>
 #include <chrono>
 #include <cmath>

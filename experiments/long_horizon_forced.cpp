@@ -9,7 +9,7 @@
 // period; Odeint dopri5, Bulirsch–Stoer and GSL rk8pd over tolerance (abs = rel) on the equation written by hand.
 //   long_horizon_forced [--periods 100 300] [--m 8 16 32 64 128] [--tol 1e-5 1e-7 1e-9 1e-11] [--reps 3]
 //                       [--alpha 0.1] [--beta 0.3] [--omega 1.0471975511965976] [--out out]
-// The study in README:
+// The study in docs/speed-accuracy.md:
 //   long_horizon_forced --periods 100 1000 10000 --m 8 16 32 64 128 256 512 --tol 1e-5 1e-7 1e-9 1e-11
 // With the default omega = pi/3 the forcing period is 6, T = 6 periods and h = 6/m divide exactly; another
 // omega needs 2 pi/omega times m to give an h that divides T.

@@ -16,7 +16,7 @@
 // (rel = tol, abs = 1e-8 tol in m and m/s, so the control stays relative while the amplitude decays by e^-18 in
 // 10 h). A run that fails is a missing value with a message.
 //   long_horizon_foucault [--alpha 1e-3] [--T 3600] [--h 0.1 0.05 0.025] [--tol 1e-6 1e-8 1e-10] [--reps 3] [--out out]
-// The study in README (the hour and 10 hours; a few minutes):
+// The study in docs/speed-accuracy.md (the hour and 10 hours; a few minutes):
 //   long_horizon_foucault --T 3600 36000 --h 0.2 0.1 0.05 0.025 0.0125 --tol 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10 1e-11
 // Writes out/long_horizon_foucault.tsv (errors: same bits for the same command), _timings.tsv, _summary.tsv,
 // out/long_horizon_foucault_drift.tsv (the constraint residual at the turning points of one run per method) and

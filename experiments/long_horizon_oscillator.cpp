@@ -11,7 +11,7 @@
 // A run that fails is a missing value (nan) with a message naming method, parameters and step.
 //   long_horizon_oscillator [--alpha 0.01 0.1] [--periods 100 1000] [--m 16 32 64 128 256] [--tol 1e-5 1e-7 1e-9 1e-11]
 //                [--window-periods 5] [--reps 3] [--out out]
-// The study in README (about 10 minutes on one core):
+// The study in docs/speed-accuracy.md (about 10 minutes on one core):
 //   long_horizon_oscillator --periods 1000 10000 100000 --m 16 32 64 128 256 512 --tol 1e-4 1e-6 1e-8 1e-10 1e-12
 // Writes out/long_horizon_oscillator.tsv (errors: the same bits for the same command),
 // out/long_horizon_oscillator_timings.tsv, out/long_horizon_oscillator_summary.tsv (times to reach each target,

@@ -42,7 +42,7 @@ inline std::string ms_cell(double seconds) {
   return b;
 }
 
-// The study's summary (summarise_work): written to `summary_path`, and printed as the README's table (markdown),
+// The study's summary (summarise_work): written to `summary_path`, and printed as the table of docs/speed-accuracy.md (markdown),
 // the crossovers and the slopes.
 inline void summarise(const std::vector<WorkPoint>& points, const std::vector<Measure>& measures,
                       const std::string& group, const std::string& horizon, const std::filesystem::path& summary_path,

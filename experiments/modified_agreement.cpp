@@ -7,7 +7,7 @@
 // Discrete solutions: the generic Newton step in long double from each system's initial data (its default
 // parameters, with damping alpha). alpha = 0.5 by default: contact's odd-order terms are proportional to alpha
 // (F_1 = -alpha^2 q'/2 on the oscillator), and at alpha = 0.1 they stay below the next even-order term over
-// this range of h, so the fitted slope there is K + 2 for even K (measured, README). Modified solutions: Boost.Odeint dopri5 with dense output at tolerance tol, the right-hand side
+// this range of h, so the fitted slope there is K + 2 for even K (measured, docs/modified-equations.md). Modified solutions: Boost.Odeint dopri5 with dense output at tolerance tol, the right-hand side
 // sum_{k<=K} h^k F_k evaluated by the series engine at every stage, started consistently: q~(0) = q_0 and
 // q~(h) = q_1 by shooting on q~'(0). Round-off: errors below 1e2 * tol (the modified solution's own accuracy
 // over the horizon; the discrete solutions in long double stay far below) are not fitted. h halves `halvings`

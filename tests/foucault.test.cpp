@@ -250,7 +250,7 @@ TEMPLATE_TEST_CASE("long double agrees with double: the solve near the origin an
 
 TEST_CASE("the LA anomaly of Figure 2 (alpha = 1e-4, h = 0.1) is a close pass, and contact has a larger one",
           "[foucault][anomaly]") {
-  // Not a property we want, a property we observed and report (README): recorded so a change shows.
+  // Not a property we want, a property we observed and report (docs/where-methods-fail.md): recorded so a change shows.
   const auto sc = scene(1e-4, 3600);
   const double s = sc.s();
   const auto la = run_foucault("foucault", "la-nh", sc, 0.1, FoucaultStart::legendre, 1000).summary;

@@ -1,4 +1,4 @@
-// The README's "add a system" example: the damped nonholonomic particle and its LA integrator.
+// The "add a system" example of docs/extending.md: the damped nonholonomic particle and its LA integrator.
 #include <catch2/catch.hpp>
 
 #include <cmath>

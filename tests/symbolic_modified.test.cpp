@@ -367,7 +367,7 @@ TEST_CASE("formulas: the knife edge's modified equation, multiplier and constrai
 }
 
 TEST_CASE("formulas: the Foucault constraint (13) near the origin, |F_1| = s V^2/r and |F_3| = s V^4/(6 r^3)", "[symbolic][nonholonomic]") {
-  // At q = (r, 0) with the consistent velocity (V, -s r) the series of F_k in r: the leading terms the README
+  // At q = (r, 0) with the consistent velocity (V, -s r) the series of F_k in r: the leading terms docs/formulas.md
   // measured numerically (powers -1 and -3), transverse to the motion; h F_1 turns the velocity by s h (hV/r)
   // per step, the measured plane jump Omega sin(beta) h/rho.
   Formulas<systems::FoucaultT, generic::LaLeft> f(3);

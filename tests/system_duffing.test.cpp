@@ -1,5 +1,5 @@
 // The damped Duffing oscillator: its equations, and what its convergence test expects and why — the example of a
-// system whose scheme crosses over between error terms over the default step sizes (README, "Add a system").
+// system whose scheme crosses over between error terms over the default step sizes (docs/extending.md, "Add a system").
 #include <catch2/catch.hpp>
 
 #include <cmath>

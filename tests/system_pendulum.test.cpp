@@ -1,4 +1,4 @@
-// The damped pendulum, the README's "add a system" example: its equations derived from L. (Its schemes,
+// The damped pendulum, the "add a system" example of docs/extending.md: its equations derived from L. (Its schemes,
 // orders and Newton cost are tested through the registry in generic_systems.test.cpp, like any new system.)
 #include <catch2/catch.hpp>
 

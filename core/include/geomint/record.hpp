@@ -1,5 +1,5 @@
 #pragma once
-// Sweeps record a numerical failure as a missing value (nan) and go on (README): one helper for every sweep,
+// Sweeps record a numerical failure as a missing value (nan) and go on (docs/extending.md): one helper for every sweep,
 // so the message is the same everywhere: "<program>: <scheme and parameters>: numerical failure at step N
 // (quantity): ... (recorded as a missing value)".
 #include <stdexcept>

@@ -12,7 +12,7 @@
 // generic `la` and `contact` (FoucaultPendulum::La, ::Contact), each with the paper's third row (on `foucault`)
 // and the remedy's (on `foucault-rotation`). The closed forms are the paper's two-step recurrences
 // (q_{j-1}, q_j) -> q_{j+1}: the paper's bits, vectorized by the ensembles (foucault_ensemble.hpp); the generic
-// (q, p) step of the same schemes carries less round-off (README).
+// (q, p) step of the same schemes carries less round-off (docs/generic-core.md).
 //
 // Both steps are linear in (q_{j+1}, lambda): the two dynamic rows give q_{j+1} as an affine function
 // of lambda, and substituting that into the discrete constraint (the third row, (13) composed with the
@@ -336,7 +336,7 @@ namespace systems {
 // The equations, written once over the combinations they use: mass(), w2() = g/l, damping() = alpha,
 // s() = Omega sin(beta), phi0() (the rotation's plane at t = 0). The double systems below read them from their
 // scene; the symbolic instantiations (FoucaultT<P>, FoucaultRotationT<P>, P a computer-algebra type) make each a
-// symbol of its own, so the modified equations come as formulas in m, w2, alpha, s as README writes them.
+// symbol of its own, so the modified equations come as formulas in m, w2, alpha, s as docs/formulas.md writes them.
 
 template <class P>
 struct FoucaultT;
@@ -460,7 +460,7 @@ struct FoucaultPendulum : FoucaultDynamics<FoucaultPendulum> {
   // The physical parameters and initial data as header lines for output files.
   std::vector<std::pair<std::string, std::string>> header_params() const;
   // The convergence tests run the first quarter swing: the paper's constraint is singular at the origin (first pass
-  // at t = pi/(2 sqrt(w2 - s^2)) = 4.1 s, where a landing kicks the plane by s h / rho: README), with a damping
+  // at t = pi/(2 sqrt(w2 - s^2)) = 4.1 s, where a landing kicks the plane by s h / rho: docs/where-methods-fail.md), with a damping
   // large enough to be seen over 4 s.
   static Expectations expectations() {
     Expectations e;

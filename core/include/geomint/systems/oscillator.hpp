@@ -59,7 +59,7 @@ struct OscillatorT {
     require_finite(p0, "p0");
     require_positive(T, "T");
   }
-  // What the tests expect: contact's O(h) error terms are proportional to alpha^2 here (README), so over h = 0.1 ...
+  // What the tests expect: contact's O(h) error terms are proportional to alpha^2 here (docs/paper.md), so over h = 0.1 ...
   // 0.0125 it shows order 2 (local orders 2.04, 2.06, 2.04; generic path, T = 20, alpha = 0.01), and crosses over
   // to its order 1 below (1.78, 1.22, 0.93 down to h = 0.0016).
   static Expectations expectations() {

@@ -2,7 +2,7 @@
 // The damped nonlinear pendulum: L = q'^2/2 - (1 - cos q), Rayleigh force F = -alpha q' (Herglotz form
 // L - alpha z). Equation of motion q'' + alpha q' + sin q = 0. No closed form: the reference is Boost.Odeint
 // on the equations the core derives from L (cross-checked against the hand-written rhs below).
-// This header is the README's "add a system" example: it and one line in core/src/systems.def give the
+// This header is the "add a system" example of docs/extending.md: it and one line in core/src/systems.def give the
 // pendulum every generic scheme and every study.
 // The parameter type P is a template parameter (Pendulum = PendulumT<double>): with a symbolic P the same
 // Lagrangian gives the modified equations as formulas in alpha (geomint/modified/symbolic.hpp).
