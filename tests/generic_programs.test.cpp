@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "geomint/plots/figure.hpp"
@@ -47,6 +48,19 @@ TEST_CASE("bench_generic rejects bad options with one line, exit 2", "[programs]
   check_rejected("bench_generic", "--steps 10", "steps must be in");
   check_rejected("bench_generic", "--reps 1", "reps must be in");
   check_rejected("bench_generic", "--benchmark_nosuch=1", "unrecognised benchmark flag");
+}
+
+TEST_CASE("negative numbers are values, after a several-value option too", "[programs][generic]") {
+  const auto dir = fresh_dir("negative-values");
+  const auto r = run_program("modified_equation", "--system knife-edge --order 1 --q 0 0 -0.3 --v 1 0 -0.5 --out " + dir.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  std::ifstream f(dir / "knife-edge_modified_equation.tsv");
+  const std::string text((std::istreambuf_iterator<char>(f)), {});
+  CHECK(text.find("# q: 0,0,-0.3\n") != std::string::npos);
+  CHECK(text.find("# v: 1,0,-0.5\n") != std::string::npos);
+  // a word that starts with '-' and is no option is a stray word, named
+  check_rejected("modified_equation", "--system knife-edge -x", "unexpected argument '-x'");
 }
 
 TEST_CASE("integrate writes the trajectory with the discrete constraint at round-off", "[programs][generic]") {

@@ -29,7 +29,13 @@ bool Cli::parse(int argc, char** argv) {
     all.add(options).add_options()("geomint-positional", po::value<std::vector<std::string>>());
     po::positional_options_description positional;
     positional.add("geomint-positional", -1);
-    const po::parsed_options parsed = po::command_line_parser(argc, argv).options(all).positional(positional).run();
+    // No short options: a value that starts with '-' is a value, after a several-value option too ("--q 0 -0.3"
+    // would otherwise end the values at "-0.3" and read it as an option). A word like "-x" is then a stray word.
+    const po::parsed_options parsed = po::command_line_parser(argc, argv)
+                                          .options(all)
+                                          .positional(positional)
+                                          .style(po::command_line_style::unix_style ^ po::command_line_style::allow_short)
+                                          .run();
     for (const auto& o : parsed.options)
       if (o.string_key == "geomint-positional")
         throw InputError("unexpected argument '" + (o.original_tokens.empty() ? std::string() : o.original_tokens.front()) +
