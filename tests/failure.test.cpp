@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <string>
 #include <sstream>
 
 #include "geomint/error.hpp"
@@ -33,6 +34,26 @@ TEST_CASE("an unstable run reports the step where the state stopped being finite
     CHECK(e.quantity == "state");
     CHECK(std::string(e.what()).find("step " + std::to_string(e.step)) != std::string::npos);
     CHECK(std::string(e.what()).find("system oscillator, scheme contact (fast), h = 2.5") != std::string::npos);
+  }
+}
+
+TEST_CASE("a Newton failure says which row kept the step from round-off, and by how much", "[failure][newton]") {
+  // la-midpoint on the pendulum at h = 2: Newton wanders on sin((q0 + q1)/2) and stops after max_updates
+  try {
+    find_system("pendulum").run({{"T", 4}}, "la-midpoint", 2, Path::generic, 1);
+    FAIL("no failure reported");
+  } catch (const NumericalFailure& e) {
+    const std::string what = e.what();
+    INFO(what);
+    CHECK(e.quantity == "newton");
+    CHECK(what.find("system pendulum, scheme la-midpoint (generic), h = 2: Newton did not converge (after 40 updates: "
+                    "dynamics row 1 ") != std::string::npos);
+    // the size against the bound, both as numbers: the row is not at round-off by a ratio far above 1
+    const auto times = what.find(" times its round-off bound ");
+    REQUIRE(times != std::string::npos);
+    const auto comma = what.rfind(", ", times);
+    REQUIRE(comma != std::string::npos);
+    CHECK(std::stod(what.substr(comma + 2, times - comma - 2)) > 1e6);
   }
 }
 

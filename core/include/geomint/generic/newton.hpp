@@ -62,19 +62,29 @@ struct StoppingRule {
   static T tolerance() { return T(kappa) * std::numeric_limits<T>::epsilon(); }
   static T floor() { return T(kappa) * std::numeric_limits<T>::denorm_min(); }
 
-  // Every row within kappa eps of its round-off scale, scale + |J| w (w: the sizes of the unknowns). `finite`
-  // is cleared when a row is not finite.
-  static bool residual_at_roundoff(const VecK& R, const VecK& scale, const MatK& J, const VecK& w, bool& finite) {
+  // The round-off bound of every row: kappa eps times its scale, scale + |J| w (w: the sizes of the unknowns),
+  // plus the floor.
+  static VecK bounds(const VecK& scale, const MatK& J, const VecK& w) {
     using std::abs;
-    using std::isfinite;
     const T tol = tolerance(), fl = floor();
-    bool ok = true;
-    finite = true;
+    VecK b;
     for (int r = 0; r < K; ++r) {
       T s = scale(r);
       for (int c = 0; c < K; ++c) s += abs(J(r, c)) * w(c);
+      b(r) = tol * s + fl;
+    }
+    return b;
+  }
+  // Every row within its round-off bound. `finite` is cleared when a row is not finite.
+  static bool residual_at_roundoff(const VecK& R, const VecK& scale, const MatK& J, const VecK& w, bool& finite) {
+    using std::abs;
+    using std::isfinite;
+    const VecK b = bounds(scale, J, w);
+    bool ok = true;
+    finite = true;
+    for (int r = 0; r < K; ++r) {
       if (!isfinite(R(r))) finite = false;
-      if (!(abs(R(r)) <= tol * s + fl)) ok = false;
+      if (!(abs(R(r)) <= b(r))) ok = false;
     }
     return ok;
   }
@@ -107,7 +117,8 @@ class Newton {
 
   // Solves from the guess x. start: the unknowns at the start of the step (with x, the sizes in the stopping
   // rule). residual(x, R, scale, out): the rows at x, their round-off scales, and the outputs there;
-  // jacobian(x, R, scale, out, lin): the same and the linearization. fail(R, updates, why) throws. Returns the
+  // jacobian(x, R, scale, out, lin): the same and the linearization. fail(R, bounds, updates, why) throws (bounds:
+  // the rows' round-off bounds, so that the message can say how far from them the rows are). Returns the
   // solution; `updates` is the number of Newton updates it took. linear: the rows are affine in x (the system
   // declares it), so a last update within two ulps may be skipped.
   template <class Residual, class Jacobian, class Fail>
@@ -144,8 +155,9 @@ class Newton {
         }
         break;
       }
-      if (!finite || updates >= max_updates) fail(R, updates, finite ? "Newton did not converge" : "non-finite residual");
-      if (!dx.allFinite()) fail(R, updates, "singular Newton matrix");
+      if (!finite || updates >= max_updates)
+        fail(R, Rule::bounds(scale, lin_.J, w), updates, finite ? "Newton did not converge" : "non-finite residual");
+      if (!dx.allFinite()) fail(R, Rule::bounds(scale, lin_.J, w), updates, "singular Newton matrix");
       x += dx;
       ++updates;
       if (updates >= 2 && !fresh) need_jacobian_ = true;  // a kept Jacobian that converges slowly

@@ -199,7 +199,8 @@ class Stepper {
         [&](const VecK& y, VecK& R, VecK& scale, StepOutput<T, n>& out, Linearization<T, K, n>& lin) {
           jacobian(y, R, scale, out, lin);
         },
-        out_, [&](const VecK& R, int u, const char* why) { fail(R, u, why); }, updates, is_linear<Sys>());
+        out_, [&](const VecK& R, const VecK& bounds, int u, const char* why) { fail(R, bounds, u, why); }, updates,
+        is_linear<Sys>());
     // a linear system takes the single-update path once its Jacobian has solved a step in one update
     if constexpr (is_linear<Sys>() && !Scheme::implicit_z)
       if (updates == 1 && newton_.jacobian_kept() && predictor_.history() >= 1) single_update_ = true;
@@ -284,19 +285,35 @@ class Stepper {
     StepOutput<T, n> scratch;
     residual(x, R, scale, scratch);
     bool finite;
-    if (!StoppingRule<T, K>::residual_at_roundoff(R, scale, newton_.linearization().J, VecK(x.cwiseAbs() + current().cwiseAbs()),
-                                                  finite))
-      fail(R, 1, kAffineMap ? "the system declares itself linear and autonomous, but its affine step map did not solve the step"
+    const VecK w = x.cwiseAbs() + current().cwiseAbs();
+    if (!StoppingRule<T, K>::residual_at_roundoff(R, scale, newton_.linearization().J, w, finite))
+      fail(R, StoppingRule<T, K>::bounds(scale, newton_.linearization().J, w), 1, kAffineMap ? "the system declares itself linear and autonomous, but its affine step map did not solve the step"
                             : "the system declares itself linear, but one Newton update did not solve the step");
   }
 
-  [[noreturn, gnu::cold, gnu::noinline]] void fail(const VecK& R, int updates, const char* why) const {
+  // The row farthest from its round-off bound (a non-finite one first), with its size against that bound: what
+  // kept the step from being accepted.
+  [[noreturn, gnu::cold, gnu::noinline]] void fail(const VecK& R, const VecK& bounds, int updates, const char* why) const {
     using std::abs;
-    T norm = 0;
-    for (int r = 0; r < K; ++r) norm = std::max<T>(norm, abs(R(r)));
+    using std::isfinite;
+    int worst = 0;
+    T ratio = -1;
+    for (int r = 0; r < K; ++r) {
+      const T q = isfinite(R(r)) ? abs(R(r)) / bounds(r) : std::numeric_limits<T>::infinity();
+      if (q > ratio) {
+        ratio = q;
+        worst = r;
+      }
+    }
+    const std::string row = worst < n ? "dynamics row " + std::to_string(worst + 1)
+                            : (nz == 1 && worst == n) ? std::string("action row")
+                                                      : "constraint row " + std::to_string(worst - n - nz + 1);
+    std::string detail = row + " " + show(static_cast<double>(R(worst)));
+    if (isfinite(R(worst)))
+      detail += ", " + show(static_cast<double>(ratio)) + " times its round-off bound " + show(static_cast<double>(bounds(worst)));
     throw NumericalFailure(s_.j + 1, "newton",
-                           std::string(why) + " (residual norm " + show(static_cast<double>(norm)) + " after " +
-                               std::to_string(updates) + " iterations, t = " + show(static_cast<double>(s_.t)) + ")");
+                           std::string(why) + " (after " + std::to_string(updates) + " updates: " + detail +
+                               "; t = " + show(static_cast<double>(s_.t)) + ")");
   }
 
   Sys sys_;
