@@ -1,5 +1,5 @@
 // Every header system written as formulas (docs/systems/*.geomint) against its header: the generic steps of
-// every scheme, step by step, and the continuous equations.
+// every scheme, step by step (both through the registry, as the programs and the Python module run them), and the continuous equations.
 //
 // Bit for bit where the formula file associates as the header's C++ does and both take the same solver path
 // (pendulum, knife edge, Foucault, Foucault with its holonomic constraint at the paper's initial data). Elsewhere
@@ -20,8 +20,9 @@
 #include <tuple>
 
 #include "geomint/formula/checks.hpp"
+#include "geomint/formula/formula_registry.hpp"
 #include "geomint/formula/formula_system.hpp"
-#include "geomint/generic/stepper.hpp"
+#include "geomint/generic/schemes.hpp"
 #include "geomint/registry.hpp"
 
 using namespace geomint;
@@ -36,50 +37,33 @@ struct StepDiff {
   long steps = 0;
 };
 
-// Every generic step of G on the formula system against the header system's run (registry, generic path).
-template <class FS, class G>
-StepDiff compare_steps(const FS& fs, const SystemInfo& header, const ParamValues& pv, double h) {
-  constexpr int n = FS::dof, m = FS::constraints;
-  const Run run = header.run(pv, generic::scheme_name<G>(), h, Path::generic, 1);
-  generic::Stepper<FS, G> st(fs, h);
-  st.start(fs.template initial_position<double>(), fs.template initial_velocity<double>());
-  StepDiff d;
-  d.steps = run.steps;
-  for (long j = 0; j <= run.steps; ++j) {
-    if (j > 0) st.step();
-    const auto& s = st.state();
-    const std::size_t r = static_cast<std::size_t>(j);
-    for (std::size_t i = 0; i < std::size_t(n); ++i) {
-      d.q = std::max(d.q, std::abs(s.q(int(i)) - run.q[r * n + i]));
-      d.p = std::max(d.p, std::abs(s.p(int(i)) - run.p[r * n + i]));
-      d.qmax = std::max(d.qmax, std::abs(run.q[r * n + i]));
-      d.pmax = std::max(d.pmax, std::abs(run.p[r * n + i]));
-    }
-    d.z = std::max(d.z, std::abs(s.z - run.z[r]));
-    d.zmax = std::max(d.zmax, std::abs(run.z[r]));
-    for (std::size_t c = 0; c < std::size_t(m); ++c) {
-      d.lambda = std::max(d.lambda, std::abs(s.lambda(int(c)) - run.lambda[r * m + c]));
-      d.lmax = std::max(d.lmax, std::abs(run.lambda[r * m + c]));
-    }
+void compare(const std::vector<double>& a, const std::vector<double>& b, double& diff, double& size) {
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    diff = std::max(diff, std::abs(a[i] - b[i]));
+    size = std::max(size, std::abs(b[i]));
   }
-  return d;
 }
 
 enum class Expect { bits, bound };
 
-// Every scheme of the core on system `name` (its formula file in shape FS) with parameters pv, step h.
-template <class FS>
+// Every generic scheme of the core (the quadratures of AllSchemesTuple) on system `name`: the entry of its formula
+// file against the header's entry, both on the generic path, with parameters pv and step h.
 void cross_check(const std::string& name, const ParamValues& pv, double h, Expect expect) {
-  FS fs(formula::load_system_file(system_file(name)));
-  for (const auto& [k, v] : pv) fs.set_parameter(k, v);
-  fs.validate();
-  const auto& header = find_system(name);
+  const auto entry = formula::formula_system_info(formula::load_system_file(system_file(name)));
+  const SystemInfo& header = find_system(name);
   std::apply([&](auto... g) {
-    ((void)[&] {
-      using G = decltype(g);
-      const StepDiff d = compare_steps<FS, G>(fs, header, pv, h);
-      INFO(name << " " << generic::scheme_name<G>() << ", " << d.steps << " steps: max |dq| " << d.q << " (|q| <= " << d.qmax
-                << "), |dp| " << d.p << ", |dz| " << d.z << ", |dlambda| " << d.lambda);
+    for (const auto& scheme : {std::string(generic::scheme_name<decltype(g)>())...}) {
+      const Run a = entry->run(pv, scheme, h, Path::generic, 1), b = header.run(pv, scheme, h, Path::generic, 1);
+      StepDiff d;
+      d.steps = b.steps;
+      REQUIRE(a.steps == b.steps);
+      compare(a.q, b.q, d.q, d.qmax);
+      compare(a.p, b.p, d.p, d.pmax);
+      compare(a.z, b.z, d.z, d.zmax);
+      compare(a.lambda, b.lambda, d.lambda, d.lmax);
+      INFO(name << " " << scheme << ", " << d.steps << " steps: max |dq| " << d.q << " (|q| <= " << d.qmax << "), |dp| " << d.p
+                << ", |dz| " << d.z << ", |dlambda| " << d.lambda);
       CHECK(d.steps == step_count(h, header.horizon(pv)));
       CHECK(d.qmax > 0.1);  // a real motion, not a comparison of zeros
       if (expect == Expect::bits) {
@@ -94,29 +78,25 @@ void cross_check(const std::string& name, const ParamValues& pv, double h, Expec
         CHECK(d.z <= 2 * kappa * eps * N * d.zmax);
         CHECK(d.lambda <= 2 * kappa * eps * N * d.lmax);
       }
-    }(), ...);
+    }
   }, generic::AllSchemesTuple{});
 }
 
 }  // namespace
 
 TEST_CASE("header systems written as formulas step to the headers' bits", "[formula][cross]") {
-  cross_check<formula::FormulaSystem<1, 0>>("pendulum", {{"alpha", 0.3}, {"q0", 1.2}, {"p0", 0.4}, {"T", 5}}, 0.05, Expect::bits);
-  cross_check<formula::FormulaSystem<3, 1>>("knife-edge", {{"alpha", 0.3}, {"theta0", 0.5}, {"omega0", 0.7}, {"T", 10}}, 0.05,
-                                            Expect::bits);
-  cross_check<formula::FormulaSystem<2, 1>>("foucault", {{"alpha", 0.1}, {"T", 4}, {"y0", 0.2}}, 0.02, Expect::bits);
-  cross_check<formula::FormulaSystem<2, 1, true>>("foucault-rotation", {{"alpha", 0.1}, {"T", 4}}, 0.02, Expect::bits);
+  cross_check("pendulum", {{"alpha", 0.3}, {"q0", 1.2}, {"p0", 0.4}, {"T", 5}}, 0.05, Expect::bits);
+  cross_check("knife-edge", {{"alpha", 0.3}, {"theta0", 0.5}, {"omega0", 0.7}, {"T", 10}}, 0.05, Expect::bits);
+  cross_check("foucault", {{"alpha", 0.1}, {"T", 4}, {"y0", 0.2}}, 0.02, Expect::bits);
+  cross_check("foucault-rotation", {{"alpha", 0.1}, {"T", 4}}, 0.02, Expect::bits);
 }
 
 TEST_CASE("header systems written as formulas step within the round-off bound of their headers", "[formula][cross]") {
-  cross_check<formula::FormulaSystem<1, 0>>("oscillator", {{"alpha", 0.3}, {"q0", 0.5}, {"T", 10}}, 0.05, Expect::bound);
-  cross_check<formula::FormulaSystem<1, 0>>("forced-oscillator", {{"alpha", 0.3}, {"beta", 0.5}, {"dq0", 0.1}, {"T", 10}}, 0.05,
-                                            Expect::bound);
-  cross_check<formula::FormulaSystem<2, 0>>("coupled-oscillators", {{"alpha", 0.3}, {"kappa", 2}, {"q20", 0.4}, {"T", 10}}, 0.05,
-                                            Expect::bound);
-  cross_check<formula::FormulaSystem<3, 1>>("particle", {{"alpha", 0.3}, {"y0", 0.7}, {"T", 10}}, 0.05, Expect::bound);
-  cross_check<formula::FormulaSystem<2, 1, true>>("foucault-rotation", {{"alpha", 0.1}, {"T", 4}, {"y0", 0.3}}, 0.02,
-                                                  Expect::bound);
+  cross_check("oscillator", {{"alpha", 0.3}, {"q0", 0.5}, {"T", 10}}, 0.05, Expect::bound);
+  cross_check("forced-oscillator", {{"alpha", 0.3}, {"beta", 0.5}, {"dq0", 0.1}, {"T", 10}}, 0.05, Expect::bound);
+  cross_check("coupled-oscillators", {{"alpha", 0.3}, {"kappa", 2}, {"q20", 0.4}, {"T", 10}}, 0.05, Expect::bound);
+  cross_check("particle", {{"alpha", 0.3}, {"y0", 0.7}, {"T", 10}}, 0.05, Expect::bound);
+  cross_check("foucault-rotation", {{"alpha", 0.1}, {"T", 4}, {"y0", 0.3}}, 0.02, Expect::bound);
 }
 
 TEST_CASE("the continuous equations from the formulas are the headers' (Odeint right-hand side)", "[formula][cross]") {

@@ -18,7 +18,7 @@ namespace geomint::modified {
 #define GEOMINT_DECLARE_0(N, M, H)
 #define GEOMINT_DECLARE_1(N, M, H) ModifiedSystem make_formula_modified_##N##_##M##_##H();
 #define GEOMINT_FORMULA_SHAPE(N, M, H, modified) GEOMINT_DECLARE_##modified(N, M, H)
-#include "formula/shapes.def"
+#include "formula/shapes_compiled.def"
 #undef GEOMINT_FORMULA_SHAPE
 
 namespace {
@@ -32,7 +32,7 @@ struct Shape {
 const std::vector<Shape>& shapes() {
   static const std::vector<Shape> all = {
 #define GEOMINT_FORMULA_SHAPE(N, M, H, modified) {N, M, H != 0, modified != 0, GEOMINT_MODIFIED_##modified(N, M, H)},
-#include "formula/shapes.def"
+#include "formula/shapes_compiled.def"
 #undef GEOMINT_FORMULA_SHAPE
   };
   return all;

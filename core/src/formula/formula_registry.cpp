@@ -35,9 +35,9 @@ const std::shared_ptr<const FormulaModel>& FormulaCall::model() {
 const std::string& FormulaCall::name() { return call_name; }
 const std::string& FormulaCall::description() { return call_description; }
 
-// One declaration per line of shapes.def; each is defined in the shape's generated translation unit.
+// One declaration per compiled line of shapes.def (the build writes them to shapes_compiled.def); each is defined in the shape's generated translation unit.
 #define GEOMINT_FORMULA_SHAPE(N, M, H, modified) SystemInfo make_formula_shape_info_##N##_##M##_##H();
-#include "formula/shapes.def"
+#include "formula/shapes_compiled.def"
 #undef GEOMINT_FORMULA_SHAPE
 
 namespace {
@@ -51,7 +51,7 @@ struct Shape {
 const std::vector<Shape>& shapes() {
   static const std::vector<Shape> all = {
 #define GEOMINT_FORMULA_SHAPE(N, M, H, modified) {N, M, H != 0, make_formula_shape_info_##N##_##M##_##H},
-#include "formula/shapes.def"
+#include "formula/shapes_compiled.def"
 #undef GEOMINT_FORMULA_SHAPE
   };
   return all;

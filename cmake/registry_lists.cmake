@@ -1,0 +1,50 @@
+# The lists the build generates translation units from, read once in one way for core/ and modified_equations/.
+#
+# geomint_registry_systems(VAR): the systems of core/src/systems.def, one "header:Type" per
+#   GEOMINT_SYSTEM(header, Type) line (the header must exist under core/include/geomint/systems/).
+# geomint_formula_shapes(VAR): the shapes the build compiles, one "n:m:h:modified" per
+#   GEOMINT_FORMULA_SHAPE(n, m, holonomic 0/1, modified equations 0/1) line of core/src/formula/shapes.def, and the
+#   same lines in generated/formula/shapes_compiled.def, which the registries include. The sanitizer build compiles
+#   only the shapes with modified equations: the ones its tests use; the others are the same templates at other sizes.
+# Both make the configuration re-run when their file changes.
+
+function(geomint_registry_systems var)
+  set(def ${CMAKE_SOURCE_DIR}/core/src/systems.def)
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${def})
+  file(STRINGS ${def} lines REGEX "^GEOMINT_SYSTEM\\(")
+  set(items "")
+  foreach(line ${lines})
+    if(NOT line MATCHES "^GEOMINT_SYSTEM\\(([a-z0-9_]+), *([A-Za-z0-9_]+)\\)")
+      message(FATAL_ERROR "systems.def: cannot read '${line}' (expected GEOMINT_SYSTEM(header, Type))")
+    endif()
+    if(NOT EXISTS ${CMAKE_SOURCE_DIR}/core/include/geomint/systems/${CMAKE_MATCH_1}.hpp)
+      message(FATAL_ERROR "systems.def: no header core/include/geomint/systems/${CMAKE_MATCH_1}.hpp")
+    endif()
+    list(APPEND items "${CMAKE_MATCH_1}:${CMAKE_MATCH_2}")
+  endforeach()
+  set(${var} ${items} PARENT_SCOPE)
+endfunction()
+
+function(geomint_formula_shapes var)
+  set(def ${CMAKE_SOURCE_DIR}/core/src/formula/shapes.def)
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${def})
+  file(STRINGS ${def} lines REGEX "^GEOMINT_FORMULA_SHAPE\\(")
+  set(items "")
+  set(compiled "")
+  foreach(line ${lines})
+    if(NOT line MATCHES "^GEOMINT_FORMULA_SHAPE\\(([1-4]), *([0-2]), *([01]), *([01])\\)")
+      message(FATAL_ERROR "shapes.def: cannot read '${line}' (expected GEOMINT_FORMULA_SHAPE(n, m, 0 or 1, 0 or 1))")
+    endif()
+    if(GEOMINT_SANITIZE AND CMAKE_MATCH_4 STREQUAL "0")
+      continue()
+    endif()
+    list(APPEND items "${CMAKE_MATCH_1}:${CMAKE_MATCH_2}:${CMAKE_MATCH_3}:${CMAKE_MATCH_4}")
+    string(APPEND compiled "${line}\n")
+  endforeach()
+  # rewritten only when it changes, so that a reconfiguration recompiles nothing
+  file(WRITE ${CMAKE_BINARY_DIR}/generated/formula/shapes_compiled.def.new
+       "// Generated from core/src/formula/shapes.def: the shapes this build compiles.\n${compiled}")
+  configure_file(${CMAKE_BINARY_DIR}/generated/formula/shapes_compiled.def.new
+                 ${CMAKE_BINARY_DIR}/generated/formula/shapes_compiled.def COPYONLY)
+  set(${var} ${items} PARENT_SCOPE)
+endfunction()
