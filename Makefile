@@ -21,7 +21,7 @@ define FIGURE_COMMANDS
 modified_equation --formulas
 modified_equation --system oscillator --order 3 --formulas
 modified_equation --system knife-edge --order 2 --q 0 0 0.3 --v 1 0 0.5 --formulas
-modified_equation --system foucault --scheme la --order 3 --q 0 0.67 --v 3.687e-5 0 --formulas
+modified_equation --system foucault --schemes la --order 3 --q 0 0.67 --v 3.687e-5 0 --formulas
 convergence --system pendulum
 regularized_error --system forced-oscillator --alpha 0.01 0.1 1 2
 convergence --system forced-oscillator --alpha 0.01 0.1 1 2
@@ -37,7 +37,7 @@ kepler_anchor
 endef
 export FIGURE_COMMANDS
 
-.PHONY: all deps build figures test bench sanitize clean
+.PHONY: all deps build figures test bench sanitize clean reference
 
 all: build
 
@@ -101,6 +101,11 @@ bench: build
 	@$(BUILD)/experiments/bench_formula --systems docs/systems --out $(OUT)
 	@echo
 	@PYTHONPATH=$(BUILD)/python /usr/bin/python3 experiments/bench_python.py
+
+# docs/programs.md from the programs' --help (a test holds the file to the build).
+reference: build
+	@/usr/bin/python3 python/reference.py $(BUILD)/experiments > docs/programs.md.tmp && mv docs/programs.md.tmp docs/programs.md
+	@echo "docs/programs.md: written"
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps

@@ -2,8 +2,8 @@
 //   q'' = F_0 + h F_1 + ... + h^K F_K   (contact: also z' = Z_0 + h Z_1 + ...; constrained: the modified
 //   multiplier mu_k and the modified constraint Phi_h = sum h^k phi_k on which the discrete solution lies),
 // computed by pushing truncated power series through the scheme's own residual (geomint/modified/automatic.hpp).
-//   modified_equation [--system pendulum | --system-file docs/systems/X.geomint] [--scheme la contact] [--order 4] [--t 0] [--q 0.5] [--v 0.3] [--z 0]
-//                     [--param alpha=0.1 ...] [--out out]
+//   modified_equation [--system pendulum | --system-file docs/systems/X.geomint] [--schemes la contact] [--order 4] [--t 0] [--q 0.5]
+//                     [--v 0.3] [--z 0] [--alpha 0.1 and the system's other parameters, as every program] [--out out]
 // Defaults: the damped pendulum at (q, q') = (0.5, 0.3), alpha = 0.1 (its default), K = 4, LA and contact.
 // Writes out/modified_equation.tsv (columns system, scheme, alpha, k, component, value; component F<i> is the
 // i-th component of F_k, Z the z' coefficient (for contact also the modified Herglotz Lagrangian), L the
@@ -34,30 +34,12 @@
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/modified/formula_modified.hpp"
 #include "geomint/registry.hpp"
+#include "geomint/system_cli.hpp"
 
 using namespace geomint;
 using namespace geomint::modified;
 
 namespace {
-
-ParamValues parse_params(const std::vector<std::string>& items) {
-  ParamValues out;
-  for (const auto& s : items) {
-    const auto eq = s.find('=');
-    require(eq != std::string::npos && eq > 0, "--param expects NAME=VALUE, got '" + s + "'");
-    const std::string name = s.substr(0, eq), value = s.substr(eq + 1);
-    std::size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(value, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    require(used == value.size() && !value.empty() && std::isfinite(x), "--param " + name + ": not a finite number: '" + value + "'");
-    out.emplace_back(name, x);
-  }
-  return out;
-}
 
 // sum_k h^k c_k in one line, from the coefficients' printed forms (zero terms left out).
 std::string series_text(const std::vector<std::string>& c, bool latex) {
@@ -151,43 +133,33 @@ void write_formulas(const std::filesystem::path& dir, const std::string& prefix,
 int main(int argc, char** argv) {
   return guarded_main("modified_equation", [&] {
     const std::string default_system = "pendulum";
-    std::string system = default_system, system_file;
-    std::vector<std::string> schemes{"la", "contact"}, params;
+    std::vector<std::string> schemes{"la", "contact"};
     int K = 4;
     double t = 0, z = 0;
     std::vector<double> q{0.5}, v{0.3};
     bool formulas = false;
     double budget = 60;
     Cli cli("modified_equation", "the modified equation q'' = sum_k h^k F_k of a scheme at a point, to order K");
-    cli.options.add_options()("system", po::value(&system)->default_value(system), "system (registry name)")(
-        "system-file", po::value(&system_file),
-        "a system defined by its formulas (a .geomint file, docs/systems/README.md) instead of --system")(
-        "scheme", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"), "schemes")(
+    // --system or --system-file, and the system's parameters as options of their own (--alpha 0.2), as every program
+    const SystemOptions sys_opts(cli, argc, argv, default_system, false);
+    cli.options.add_options()("schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"),
+                              "schemes (see --help --system X)")(
         "order", po::value(&K)->default_value(K), "order K (0..6)")("t", po::value(&t)->default_value(t), "time")(
         "q", po::value(&q)->multitoken()->default_value(q, "0.5"), "position (n components)")(
         "v", po::value(&v)->multitoken()->default_value(v, "0.3"), "velocity q' (n components)")(
         "z", po::value(&z)->default_value(z), "Herglotz action z (contact schemes)")(
-        "param", po::value(&params)->multitoken(), "system parameters NAME=VALUE (defaults: the system's)")(
         "formulas", po::bool_switch(&formulas), "also derive the modified equation as formulas (text, Mathematica, LaTeX)")(
         "budget", po::value(&budget)->default_value(budget), "time budget of the formulas, seconds per scheme");
     if (!cli.parse(argc, argv)) return 0;
 
-    // A system file: its registry entries (the schemes and the modified equations of its shape), alive to the end.
-    std::shared_ptr<const SystemInfo> file_info;
+    // A system file: the modified equations of its shape, alive to the end.
+    const auto& info = sys_opts.system();
+    const std::string& system_file = sys_opts.system_file();
+    const std::string system = info.name;
     std::shared_ptr<const ModifiedSystem> file_ms;
-    if (!system_file.empty()) {
-      for (int i = 1; i < argc; ++i)
-        require(std::string(argv[i]) != "--system" && std::string(argv[i]).rfind("--system=", 0) != 0,
-                "give --system or --system-file, not both");
-      const auto model = formula::load_system_file(system_file);
-      file_info = formula::formula_system_info(model);
-      file_ms = formula_modified_system(model);
-      system = model->name;
-    }
-    const auto& info = file_info ? *file_info : find_system(system);
+    if (!system_file.empty()) file_ms = formula_modified_system(formula::load_system_file(system_file));
     const auto& ms = file_ms ? *file_ms : find_modified_system(system);
-    const ParamValues pv = parse_params(params);
-    info.validate(pv);
+    const ParamValues pv = sys_opts.values();
     require(K >= 0 && K <= registry_max_order, "order must be in [0, " + std::to_string(registry_max_order) + "], got " + std::to_string(K));
     require(std::isfinite(t) && std::isfinite(z), "t and z must be finite");
     for (double x : q) require_finite(x, "q");

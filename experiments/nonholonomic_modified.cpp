@@ -46,8 +46,8 @@ int main(int argc, char** argv) {
     cli.options.add_options()("systems", po::value(&systems)->multitoken()->default_value(systems, "knife-edge foucault-rotation"), "constrained systems")(
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"), "schemes")(
         "orders", po::value(&orders)->multitoken()->default_value(orders, "1 2 3"), "orders K")(
-        "alpha", po::value(&alpha)->default_value(alpha), "damping of both systems")(
-        "h-max", po::value(&h_max)->default_value(h_max), "largest step")(
+        "alpha", po::value(&alpha)->default_value(alpha, format_number(alpha)), "damping of both systems")(
+        "h-max", po::value(&h_max)->default_value(h_max, format_number(h_max)), "largest step")(
         "halvings", po::value(&halvings)->default_value(halvings), "number of halvings of h")(
         "T", po::value(&T)->default_value(T), "horizon (s)")("tol", po::value(&tol)->default_value(tol), "Odeint tolerance")(
         "radii", po::value(&radii)->default_value(radii), "part 2: r = 0.1 ... 0.1^radii")(

@@ -76,7 +76,7 @@ void check_system(const std::string& name, const ParamValues& pv, const std::vec
   REQUIRE(entry->constraints == header.constraints);
   // near the initial data: the header's run starts there (the formula file's [initial] is the header's)
   const auto& sys = find_system(name);
-  const Run start = sys.run(pv, "la", sys.horizon(pv) / 4, Path::generic, 1);
+  const Run start = sys.run(pv, "la", sys.horizon(pv) / 1000, Path::generic, 1000);
   const std::vector<double> q0(start.q.begin(), start.q.begin() + header.dof), v0(start.v.begin(), start.v.begin() + header.dof);
   unsigned seed = 11;
   for (const auto& scheme : schemes) {

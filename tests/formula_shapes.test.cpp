@@ -155,7 +155,7 @@ TEST_CASE("n = 4, m = 2 formula systems: continuous equations and modified equat
     const auto me = modified::formula_modified_system(model);
     const auto table = default_table(*model);
     const auto ode = entry->ode({});
-    const Run start = entry->run({}, "la", entry->horizon({}) / 4, Path::generic, 1);
+    const Run start = entry->run({}, "la", entry->horizon({}) / 1000, Path::generic, 1000);  // its initial data
     for (int k = 0; k < 3; ++k) {
       std::vector<double> q(start.q.begin(), start.q.begin() + 4), v(start.v.begin(), start.v.begin() + 4);
       for (int i = 0; i < 4; ++i) {

@@ -14,12 +14,14 @@ TEST_CASE("modified-equation programs reject bad input", "[programs][modified]")
   check_rejected("modified_equation", "--order 7", "order must be in");
   check_rejected("modified_equation", "--order=-1", "order must be in");
   check_rejected("modified_equation", "--system nosuch", "unknown system 'nosuch'");
-  check_rejected("modified_equation", "--scheme nosuch", "unknown scheme 'nosuch'");
+  check_rejected("modified_equation", "--schemes nosuch", "unknown scheme 'nosuch'");
   check_rejected("modified_equation", "--q 0.1 0.2", "degrees of freedom");
   check_rejected("modified_equation", "--q nan", "q must be finite");
-  check_rejected("modified_equation", "--param alpha=abc", "not a finite number");
-  check_rejected("modified_equation", "--param nosuch=1", "has no parameter 'nosuch'");
-  check_rejected("modified_equation", "--param alpha=-1", "alpha must be a non-negative");
+  // the system's parameters are options of their own, as in every program with --system
+  check_rejected("modified_equation", "--alpha abc", "the argument ('abc') for option '--alpha' is invalid");
+  check_rejected("modified_equation", "--nosuch 1", "unrecognised option '--nosuch'");
+  check_rejected("modified_equation", "--alpha -1", "alpha must be a non-negative");
+  check_rejected("modified_equation", "--system pendulum --kappa 1", "unrecognised option '--kappa'");  // the knife edge's
   check_rejected("modified_agreement", "--orders 9 --h-max 0.2", "orders must be in");
   check_rejected("modified_agreement", "--orders 1 2 --h-max 0.1 0.2 0.3", "one per order");
   check_rejected("modified_agreement", "--systems knife-edge", "is constrained");

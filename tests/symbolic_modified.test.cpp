@@ -282,8 +282,8 @@ TEST_CASE("formulas: sympy reads the text as the numbers", "[symbolic][sympy]") 
 TEST_CASE("modified_equation --formulas: text and LaTeX next to an unchanged table", "[symbolic][programs]") {
   const auto dir = geomint::testing::fresh_dir("formulas");
   const auto plain = dir / "plain", with = dir / "with";
-  REQUIRE(geomint::testing::run_program("modified_equation", "--scheme la contact --order 3 --out " + plain.string()).exit_code == 0);
-  const auto r = geomint::testing::run_program("modified_equation", "--scheme la contact --order 3 --formulas --out " + with.string());
+  REQUIRE(geomint::testing::run_program("modified_equation", "--schemes la contact --order 3 --out " + plain.string()).exit_code == 0);
+  const auto r = geomint::testing::run_program("modified_equation", "--schemes la contact --order 3 --formulas --out " + with.string());
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   auto slurp = [](const std::filesystem::path& p) {

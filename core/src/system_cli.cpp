@@ -60,6 +60,7 @@ SystemOptions::SystemOptions(Cli& cli, int argc, char** argv, const std::string&
   if (!file.empty()) {
     require(!has_system_arg(argc, argv), "give --system or --system-file, not both");
     system_ = &system_from_file(file);
+    file_ = file;
   } else {
     system_ = &find_system(find_system_arg(argc, argv, default_system));
   }
@@ -70,8 +71,11 @@ SystemOptions::SystemOptions(Cli& cli, int argc, char** argv, const std::string&
                             ("the system (" + known + ")").c_str())(
       "system-file", po::value<std::string>(),
       "a system defined by its formulas (a .geomint file, docs/systems/README.md) instead of --system");
-  po::options_description sys_opts("Parameters of system '" + system_->name + "' (" + system_->description +
-                                   (sweep ? "; several values sweep" : "") + ")");
+  // --help --system X: the system's schemes (what --scheme/--schemes take), then its parameters as options
+  std::string caption = "Schemes of system '" + system_->name + "':";
+  for (const auto& s : system_->schemes) caption += "\n  " + s.name + ": " + s.description();
+  caption += "\n\nParameters of system '" + system_->name + "' (" + system_->description + (sweep ? "; several values sweep" : "") + ")";
+  po::options_description sys_opts(caption);
   for (std::size_t i = 0; i < system_->params.size(); ++i) {
     const auto& p = system_->params[i];
     // multitoken even when not sweeping, so a second value is an error here rather than a stray word

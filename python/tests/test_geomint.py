@@ -148,7 +148,7 @@ def test_work_precision_errors_are_the_convergence_errors():
 
 
 def test_modified_equation_is_the_program(tmp_path):
-    program("modified_equation", "--system", "pendulum", "--scheme", "la", "contact", "--order", 4, "--q", 0.5, "--v", 0.3,
+    program("modified_equation", "--system", "pendulum", "--schemes", "la", "contact", "--order", 4, "--q", 0.5, "--v", 0.3,
             out=tmp_path)
     table = geomint.read_tsv(tmp_path / "modified_equation.tsv")
     sys = geomint.system("pendulum")

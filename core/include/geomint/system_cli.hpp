@@ -17,6 +17,8 @@ class SystemOptions {
   SystemOptions(Cli& cli, int argc, char** argv, const std::string& default_system, bool sweep);
 
   const SystemInfo& system() const { return *system_; }
+  // The system file it was read from (--system-file), or "" for a registry system.
+  const std::string& system_file() const { return file_; }
   // After cli.parse: every combination of the given values (one ParamValues when nothing is swept), each
   // validated; the parameters given more than one value, in the system's order.
   std::vector<ParamValues> combinations() const;
@@ -31,6 +33,7 @@ class SystemOptions {
  private:
   const SystemInfo* system_ = nullptr;
   std::vector<std::vector<double>> given_;  // per parameter, in the system's order
+  std::string file_;
   bool sweep_;
 };
 
