@@ -59,3 +59,13 @@ function(geomint_generated_units)
     set_property(SOURCE ${ARGN} APPEND PROPERTY COMPILE_OPTIONS -fno-sanitize=undefined)
   endif()
 endfunction()
+
+# geomint_unpack("a:b:c" X Y Z): X = a, Y = b, Z = c in the caller's scope (an item of the lists above).
+macro(geomint_unpack item)
+  string(REPLACE ":" ";" _geomint_parts "${item}")
+  set(_geomint_index 0)
+  foreach(_geomint_var ${ARGN})
+    list(GET _geomint_parts ${_geomint_index} ${_geomint_var})
+    math(EXPR _geomint_index "${_geomint_index} + 1")
+  endforeach()
+endmacro()
