@@ -3,6 +3,7 @@
 // refused. Orders: tests/composition_orders.test.cpp; coefficients: tests/composition_families.test.cpp.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -12,6 +13,7 @@
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/study.hpp"
+#include "geomint/sweep.hpp"
 
 using namespace geomint;
 
@@ -54,7 +56,7 @@ TEST_CASE("negative stages keep every stage's discrete constraint at round-off",
     for (const auto& base : comp.bases)
       for (const auto& fam : generic::composition_families()) {
         const std::string name = generic::composition_name(fam.name, base);
-        const Run run = comp.run(params_of(comp.system), name, 0.1, 1000000);
+        const Run run = sys.run(params_of(comp.system), name, 0.1, Path::generic, 1000000);
         INFO(comp.system << " " << name << ": max |Phi_d| over " << run.steps << " steps x " << fam.stages()
                          << " stages = " << run.max_phi_d);
         // as for the base schemes at h = 0.1 (tests/generic_systems.test.cpp: 2e-15, the terms of Phi_d are O(1)
@@ -73,7 +75,7 @@ TEST_CASE("the contact action z of a composition converges at the family's order
   // ratio sqrt(2) from h = 1, fitted over the finest points (at most four) that are above the round-off floor
   // (1e-11; z's is 1e-14 here) and at least 50 times the finest run's own error (skipping rungs next to it).
   for (const char* system : {"pendulum", "kepler"}) {
-    const auto& comp = find_compositions(system);
+    const SystemInfo& sys = find_system(system);
     const double T = 10;
     for (const auto& fam : generic::composition_families()) {
       const std::string name = generic::composition_name(fam.name, "contact-trapezoid");
@@ -82,7 +84,7 @@ TEST_CASE("the contact action z of a composition converges at the family's order
         const long N = std::lround(T * std::pow(std::sqrt(2.0), k));
         hs.push_back(T / static_cast<double>(N));
         try {
-          zT.push_back(comp.run({{"T", T}}, name, hs.back(), N).z.back());
+          zT.push_back(sys.run({{"T", T}}, name, hs.back(), Path::generic, N).z.back());
         } catch (const NumericalFailure&) {
           zT.push_back(std::nan(""));  // a coarse rung outside Newton's reach
         }
@@ -113,9 +115,8 @@ TEST_CASE("the contact action z of a composition converges at the family's order
 TEST_CASE("a composition that fails names the system, the composition, the step and the stage", "[composition][failure]") {
   // the knife edge at h = 0.4: the triple jump's middle stage (step -0.68, turning the blade by ~1.4 rad) starts
   // Newton too far from its solution
-  const auto& comp = find_compositions("knife-edge");
   try {
-    comp.run({{"T", 10}}, "yoshida4:la-trapezoid", 0.4, 1);
+    find_system("knife-edge").run({{"T", 10}}, "yoshida4:la-trapezoid", 0.4, Path::generic, 1);
     FAIL("no failure");
   } catch (const NumericalFailure& e) {
     const std::string what = e.what();
@@ -126,15 +127,79 @@ TEST_CASE("a composition that fails names the system, the composition, the step 
   }
 }
 
-TEST_CASE("compositions are refused by name when the family or the base is not one", "[composition][registry]") {
+TEST_CASE("compositions are schemes of every system, refused by name when the family or the base is not one",
+          "[composition][registry]") {
+  const SystemInfo& sys = find_system("pendulum");
   const auto& comp = find_compositions("pendulum");
   CHECK(comp.bases == std::vector<std::string>{"la-midpoint", "la-trapezoid", "contact-trapezoid"});
-  CHECK_THROWS_WITH(comp.run({}, "yoshida4:la", 0.1, 1),
+  // every family on every base, named, ordered and described by the registry, out of the default set
+  CHECK(sys.compositions.size() == generic::composition_families().size() * comp.bases.size());
+  const SchemeInfo& y6 = sys.scheme("yoshida6a:contact-trapezoid");
+  CHECK(y6.order == 6);
+  CHECK(y6.base == "contact-trapezoid");
+  CHECK(y6.quadrature == "trapezoid");
+  CHECK(y6.principle.find("7 stages") != std::string::npos);
+  const auto defaults = sys.scheme_names();
+  CHECK(std::find(defaults.begin(), defaults.end(), "yoshida4:la-trapezoid") == defaults.end());
+  for (const auto& s : all_systems())
+    for (const auto& c : s.compositions) CHECK(s.scheme(c.base).order == 2);
+  CHECK_THROWS_WITH(sys.scheme("yoshida4:la"), Catch::Contains("scheme 'la' of system 'pendulum' cannot be composed") &&
+                                                   Catch::Contains("la-midpoint, la-trapezoid, contact-trapezoid"));
+  CHECK_THROWS_WITH(sys.run({}, "yoshida4:la", 0.1, Path::generic, 1),
                     Catch::Contains("scheme 'la' of system 'pendulum' cannot be composed") &&
                         Catch::Contains("la-midpoint, la-trapezoid, contact-trapezoid"));
-  CHECK_THROWS_WITH(comp.run({}, "nosuch:la-trapezoid", 0.1, 1), Catch::Contains("unknown composition family 'nosuch'"));
-  CHECK_THROWS_WITH(comp.run({}, "la-trapezoid", 0.1, 1), Catch::Contains("<family>:<scheme>"));
-  CHECK_THROWS_WITH(comp.run({}, "yoshida4:la-trapezoid", 0.3, 1), Catch::Contains("not an integer"));
+  CHECK_THROWS_WITH(sys.scheme("nosuch:la-trapezoid"), Catch::Contains("unknown composition family 'nosuch'"));
+  CHECK_THROWS_WITH(sys.run({}, "nosuch:la-trapezoid", 0.1, Path::generic, 1),
+                    Catch::Contains("unknown composition family 'nosuch'"));
+  CHECK_THROWS_WITH(sys.scheme("yoshida4:"), Catch::Contains("<family>:<scheme>"));
+  CHECK_THROWS_WITH(sys.scheme("nosuch"), Catch::Contains("compositions <family>:<base> of families yoshida4, suzuki4"));
+  CHECK_THROWS_WITH(sys.run({}, "yoshida4:la-trapezoid", 0.3, Path::generic, 1), Catch::Contains("not an integer"));
   CHECK_THROWS_WITH(find_compositions("nosuch"), Catch::Contains("unknown system 'nosuch'") && Catch::Contains("kepler"));
   CHECK(all_compositions().size() == all_systems().size());
+}
+
+TEST_CASE("a study takes compositions by name: the convergence study fits their orders beside the base's",
+          "[composition][registry][study]") {
+  // the pendulum over T = 10 (its expectations' horizon is 20; 10 keeps the run short), h = 0.2 halved three times:
+  // errors from 1e-3 (base) and 1e-6 .. 1e-10 (compositions) down to above the 1e-13 floor of the fit
+  const SystemInfo& sys = find_system("pendulum");
+  const std::vector<std::string> schemes{"la-trapezoid", "yoshida4:la-trapezoid", "suzuki4:la-trapezoid",
+                                         "yoshida6a:contact-trapezoid"};
+  const std::vector<double> hs{0.2, 0.1, 0.05, 0.025};
+  const auto study =
+      convergence_study(sys, {{{"T", 10}}}, schemes, hs, Path::generic, ReferenceKind::automatic, 1e-14, Sweep::world());
+  REQUIRE(study.series.size() == schemes.size());
+  for (const auto& s : study.series) {
+    std::string errs;
+    for (double e : s.err) errs += " " + show(e);
+    INFO(s.scheme << ": errors" << errs << "; fitted order " << s.fit.slope << " over " << s.fit.points << " points");
+    CHECK(s.expected_order == sys.scheme(s.scheme).order);
+    CHECK(s.fit.points >= 3);
+    CHECK(std::abs(s.fit.slope - s.expected_order) <= 0.15);
+  }
+}
+
+TEST_CASE("a composition's one-step matrix: on the undamped oscillator det 1 and a phase error of order p + 1 per step",
+          "[composition][registry][stability]") {
+  // la-trapezoid (leapfrog) is symplectic on q'' = -q, so every stage's matrix has det 1 and so has their product;
+  // the product's rotation angle theta(h) = acos(tr/2) is h + O(h^(p+1)) for a composition of order p. Fitted
+  // over h = 0.4 .. 0.1, where |theta - h| stays above 1e-13 (kahanli8 is left out: its error is below it there).
+  const SystemInfo& osc = find_system("oscillator");
+  for (const char* name : {"la-trapezoid", "yoshida4:la-trapezoid", "suzuki4:la-trapezoid", "yoshida6a:la-trapezoid"}) {
+    const int p = osc.scheme(name).order;
+    std::vector<double> hs, err;
+    for (double h : {0.4, 0.2, 0.1}) {
+      const auto M = osc.one_step_matrix({{"alpha", 0}}, name, h, Path::generic);
+      REQUIRE(M.size() == 4);
+      const long double det = M[0] * M[3] - M[1] * M[2];
+      INFO(name << " h = " << h << ": det - 1 = " << static_cast<double>(det - 1));
+      CHECK(std::abs(static_cast<double>(det - 1)) <= 64 * eps);
+      hs.push_back(h);
+      err.push_back(std::abs(std::acos(static_cast<double>((M[0] + M[3]) / 2)) - h));
+    }
+    const OrderFit fit = fit_order(hs, err, 1e-13);
+    INFO(name << ": |theta(h) - h| = " << err[0] << " " << err[1] << " " << err[2] << ", slope " << fit.slope);
+    CHECK(fit.points == 3);
+    CHECK(std::abs(fit.slope - (p + 1)) <= 0.15);
+  }
 }

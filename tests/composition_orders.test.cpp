@@ -84,7 +84,7 @@ TEST_CASE("every composition family reaches its order on every system and symmet
         std::vector<double> err;
         for (std::size_t k = 0; k < hs.size(); ++k) {
           try {
-            err.push_back(comp.max_error(L.params, name, hs[k], refs[k]));
+            err.push_back(sys.max_error(L.params, name, hs[k], Path::generic, refs[k]));
           } catch (const NumericalFailure&) {
             err.push_back(std::nan(""));  // a coarse rung outside the range of Newton's convergence
           }

@@ -29,6 +29,12 @@ std::string format_list(const std::vector<double>& v) {
   return s;
 }
 
+std::string join_names(const std::vector<std::string>& names, const char* sep) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : sep) + n;
+  return s;
+}
+
 namespace fs = std::filesystem;
 
 fs::path output_path_for_reading(const fs::path& final_path) {

@@ -9,9 +9,7 @@
 #include <boost/numeric/odeint.hpp>
 
 #include "geomint/budget.hpp"
-#include "geomint/composition_registry.hpp"
 #include "geomint/error.hpp"
-#include "geomint/generic/composition_families.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/systems/kepler.hpp"
@@ -27,8 +25,6 @@ const double pi = boost::math::constants::pi<double>();
 using State = std::array<double, 4>;  // (q1, q2, q1', q2')
 
 ParamValues params_of(const KeplerSetting& s) { return {{"a", s.a}, {"theta", s.theta}, {"e", s.e}, {"T", s.T}}; }
-
-bool is_composition(const std::string& method) { return method.find(':') != std::string::npos; }
 
 // A trajectory at every step t_j = j tau: positions and velocities.
 struct Trajectory {
@@ -92,8 +88,7 @@ Trajectory run_method(const KeplerSetting& s, const std::string& method, long N)
     tr.work_unit = "rhs";
     return tr;
   }
-  const Run run = is_composition(method) ? find_compositions("kepler").run(params_of(s), method, s.tau, 1)
-                                         : find_system("kepler").run(params_of(s), method, s.tau, Path::generic, 1);
+  const Run run = find_system("kepler").run(params_of(s), method, s.tau, Path::generic, 1);
   for (std::size_t j = 0; j < run.t.size(); ++j) {
     tr.t.push_back(run.t[j]);
     tr.x.push_back({run.q[2 * j], run.q[2 * j + 1], run.v[2 * j], run.v[2 * j + 1]});
@@ -105,7 +100,6 @@ Trajectory run_method(const KeplerSetting& s, const std::string& method, long N)
 
 int order_of(const std::string& method) {
   if (method == "odeint-rk4") return 4;
-  if (is_composition(method)) return generic::find_composition_family(generic::parse_composition_name(method).family).order;
   return find_system("kepler").scheme(method).order;
 }
 
@@ -219,7 +213,6 @@ double kepler_anchor_seconds(const KeplerSetting& s, const std::string& method, 
                          reps)
         .median;
   }
-  if (is_composition(method)) return find_compositions("kepler").seconds_per_run(params_of(s), method, s.tau, reps);
   return find_system("kepler").time_run(params_of(s), method, s.tau, Path::generic, reps).median;
 }
 

@@ -1,8 +1,10 @@
 #include "geomint/registry.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "geomint/error.hpp"
+#include "geomint/generic/composition_families.hpp"
 #include "geomint/io.hpp"
 
 namespace geomint {
@@ -38,14 +40,40 @@ const SystemInfo& find_system(const std::string& name) {
 const SchemeInfo& SystemInfo::scheme(const std::string& scheme_name) const {
   for (const auto& s : schemes)
     if (s.named(scheme_name)) return s;
-  std::string known;
-  for (const auto& s : schemes) known += (known.empty() ? "" : ", ") + s.name;
+  for (const auto& s : compositions)
+    if (s.name == scheme_name) return s;
+  const auto bases = composition_bases();
+  if (scheme_name.find(':') != std::string::npos) {
+    const auto parsed = generic::parse_composition_name(scheme_name);  // InputError: no family or no such family
+    throw InputError("scheme '" + parsed.base + "' of system '" + name + "' cannot be composed (" +
+                     (bases.empty() ? std::string("it has no symmetric scheme") : "symmetric schemes: " + join_names(bases, ", ")) +
+                     ")");
+  }
+  std::string known = join_names(scheme_names(), ", ");
+  if (!bases.empty()) {
+    std::vector<std::string> families;
+    for (const auto& f : generic::composition_families()) families.push_back(f.name);
+    known += "; compositions <family>:<base> of families " + join_names(families, ", ") + " and bases " + join_names(bases, ", ");
+  }
   throw InputError("unknown scheme '" + scheme_name + "' for system '" + name + "' (known: " + known + ")");
 }
 
 std::vector<std::string> SystemInfo::scheme_names() const {
   std::vector<std::string> names;
   for (const auto& s : schemes) names.push_back(s.name);
+  return names;
+}
+
+std::vector<std::string> SystemInfo::composition_bases() const {
+  std::vector<std::string> bases;
+  for (const auto& s : compositions)
+    if (std::find(bases.begin(), bases.end(), s.base) == bases.end()) bases.push_back(s.base);
+  return bases;
+}
+
+std::vector<std::string> SystemInfo::composition_names() const {
+  std::vector<std::string> names;
+  for (const auto& s : compositions) names.push_back(s.name);
   return names;
 }
 

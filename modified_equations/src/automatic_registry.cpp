@@ -18,10 +18,12 @@ const std::vector<ModifiedSystem>& all_modified_systems() {
   return all;
 }
 
-std::string join_names(const std::vector<std::string>& names) {
-  std::string x;
-  for (const auto& n : names) x += (x.empty() ? "" : " ") + n;
-  return x;
+const SchemeInfo& modified_scheme(const SystemInfo& sys, const std::string& name) {
+  const SchemeInfo& s = sys.scheme(name);
+  if (!s.base.empty())
+    throw InputError("'" + name + "' is a composition: modified equations are derived for the schemes with a residual (" +
+                     join_names(sys.scheme_names(), ", ") + "), not yet for compositions");
+  return s;
 }
 
 const ModifiedSystem& find_modified_system(const std::string& name) {

@@ -1,9 +1,10 @@
 #pragma once
-// The compositions every system gets, for programs and tests, without their templates: a CompositionInfo per
-// system, built in the system's generated translation unit (core/src/system_instance.cpp.in) by
+// What only compositions have, for tests and benchmarks, without their templates: a CompositionInfo per system,
+// built in the system's generated translation unit (core/src/system_instance.cpp.in) by
 // generic::make_composition_info<Sys>() (generic/composition_info.hpp), where the system's schemes are already
-// instantiated. A composition is named "<family>:<base>" (generic/composition_families.hpp), the base one of the
-// system's symmetric schemes. Light: include this, not the generic headers, in programs.
+// instantiated. A composition itself runs through SystemInfo like any scheme, by its name "<family>:<base>"
+// (generic/composition_families.hpp), the base one of the system's symmetric schemes. Light: include this, not
+// the generic headers, in programs.
 #include <string>
 #include <vector>
 
@@ -24,12 +25,6 @@ struct CompositionInfo {
   std::string system;
   std::vector<std::string> bases;  // the system's symmetric schemes, on which compositions are built
 
-  // As SystemInfo's run, max_error and seconds_per_run, for the composition `name` ("<family>:<base>"). A run's
-  // phi_d is the largest discrete constraint over the stages of the step into q_j, its newton the Newton updates
-  // of all those stages.
-  Run (*run)(const ParamValues&, const std::string& name, double h, long every) = nullptr;
-  double (*max_error)(const ParamValues&, const std::string& name, double h, const Reference&) = nullptr;
-  double (*seconds_per_run)(const ParamValues&, const std::string& name, double h, int reps) = nullptr;
   // The base scheme's step of h then -h, from the state after `steps` steps of h from the initial data.
   SymmetryDefect (*symmetry)(const ParamValues&, const std::string& base, double h, long steps) = nullptr;
   // For benchmarks (bench_compose): N steps from the initial data, nothing stored, returning the Newton updates

@@ -20,6 +20,8 @@ using Params = std::vector<std::pair<std::string, std::string>>;
 
 std::string format_number(double v);  // shortest round-trip form, "nan" for NaN
 std::string format_list(const std::vector<double>& v);
+// "a b c" (or "a, b, c" with sep ", "): a list of names for an output header or a message.
+std::string join_names(const std::vector<std::string>& names, const char* sep = " ");
 
 // Under an MPI launcher, what the ranks other than 0 do at prepare_output_dir. Rank 0 alone writes, either way.
 enum class OtherRanks {

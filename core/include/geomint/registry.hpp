@@ -38,6 +38,7 @@ struct SchemeInfo {
   int order;               // expected order of convergence (0: does not converge)
   std::string fast_path;   // the closed form that runs it on this system ("" if none)
   bool generic = true;     // it has a residual, so the generic Newton step runs it (false: its closed form only)
+  std::string base;        // a composition ("<family>:<base>"): the symmetric scheme whose steps it composes
   std::string description() const;
   bool named(const std::string& name) const;  // its name or one of its aliases
 };
@@ -103,7 +104,11 @@ struct SystemInfo {
   int dof = 0, constraints = 0;
   bool has_exact = false, has_herglotz = false, has_rhs = false, linear = false;
   std::vector<ParamInfo> params;
-  std::vector<SchemeInfo> schemes;
+  std::vector<SchemeInfo> schemes;       // what a study runs when no scheme is named
+  // Compositions of its symmetric schemes with every coefficient family (generic/composition_families.hpp),
+  // named "<family>:<base>": schemes like the others for every operation below (a one-step map run by the
+  // generic step of the base; no closed form, so the path is generic whatever is asked), run only when named.
+  std::vector<SchemeInfo> compositions;
   Expectations expectations;  // what its tests expect (declared with the system, or the defaults)
 
   // Operations on this system (function pointers into its generated translation unit).
@@ -133,9 +138,11 @@ struct SystemInfo {
   std::vector<long double> (*one_step_matrix)(const ParamValues&, const std::string& scheme, double h, Path) = nullptr;
   std::vector<double> (*continuous_matrix)(const ParamValues&) = nullptr;
 
-  // The scheme named `name` or one of its aliases; InputError naming the known ones.
+  // The scheme or composition named `name` (or one of its aliases); InputError naming the known ones.
   const SchemeInfo& scheme(const std::string& name) const;
-  std::vector<std::string> scheme_names() const;  // their one names, in the registry's order
+  std::vector<std::string> scheme_names() const;       // the schemes' one names, in the registry's order
+  std::vector<std::string> composition_names() const;  // every "<family>:<base>", families outermost
+  std::vector<std::string> composition_bases() const;  // the symmetric schemes they compose
   // The header lines of an output file: every parameter with its value.
   std::vector<std::pair<std::string, std::string>> header(const ParamValues&) const;
 };

@@ -113,6 +113,13 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
     entry.schemes.erase(std::remove_if(entry.schemes.begin(), entry.schemes.end(),
                                        [](const SchemeInfo& s) { return s.principle.rfind("discrete Herglotz", 0) == 0; }),
                         entry.schemes.end());
+  entry.compositions.erase(std::remove_if(entry.compositions.begin(), entry.compositions.end(),
+                                          [&](const SchemeInfo& c) {
+                                            for (const auto& s : entry.schemes)
+                                              if (s.name == c.base) return false;
+                                            return true;
+                                          }),
+                           entry.compositions.end());
   return EntrySlots<SystemInfo>::acquire<&SystemInfo::validate, &SystemInfo::horizon, &SystemInfo::run, &SystemInfo::max_error,
                                          &SystemInfo::max_relative_error, &SystemInfo::reference,
                                          &SystemInfo::time_run, &SystemInfo::ode, &SystemInfo::ode_initial_state,

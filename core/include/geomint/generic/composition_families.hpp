@@ -35,6 +35,8 @@ struct CompositionName {
   std::string family, base;
 };
 CompositionName parse_composition_name(const std::string& name);
+// Whether `name` is meant as a composition (it has a colon; parse_composition_name checks the rest).
+inline bool is_composition_name(const std::string& name) { return name.find(':') != std::string::npos; }
 std::string composition_name(const std::string& family, const std::string& base);
 
 }  // namespace geomint::generic

@@ -10,6 +10,8 @@
 #include <type_traits>
 
 #include "geomint/error.hpp"
+#include "geomint/generic/composition.hpp"
+#include "geomint/generic/composition_families.hpp"
 #include "geomint/generic/fast_path.hpp"
 #include "geomint/generic/stepper.hpp"
 #include "geomint/io.hpp"
@@ -231,6 +233,132 @@ double max_over_run(const Sys& sys, double h, Path path, const Reference& ref, M
 }
 
 // ---------------------------------------------------------------------------------------------------
+// Compositions (composition.hpp) run as schemes: "<family>:<base>", by the generic step of the base.
+
+// The schemes a composition can be built on: the system's symmetric (second-order) ones.
+template <class Sys, class G>
+constexpr bool composable() {
+  return applicable<Sys, G>() && G::order == 2;
+}
+
+template <class Sys>
+std::vector<std::string> composable_schemes() {
+  std::vector<std::string> names;
+  std::apply([&](auto... g) { ((composable<Sys, decltype(g)>() ? names.push_back(scheme_name<decltype(g)>()) : void()), ...); },
+             AllSchemesTuple{});
+  return names;
+}
+
+// Calls f(G{}) for the composable scheme named `base`; InputError naming the composable ones otherwise.
+template <class Sys, std::size_t I = 0, class F>
+decltype(auto) visit_composable(const std::string& base, F&& f) {
+  if constexpr (I == std::tuple_size_v<AllSchemesTuple>) {
+    std::string known;
+    for (const auto& s : composable_schemes<Sys>()) known += (known.empty() ? "" : ", ") + s;
+    throw InputError("scheme '" + base + "' of system '" + Sys::name + "' cannot be composed (symmetric schemes: " +
+                     known + ")");
+    return f(LaTrapezoid{});  // not reached; gives the return type
+  } else {
+    using G = std::tuple_element_t<I, AllSchemesTuple>;
+    if constexpr (composable<Sys, G>()) {
+      if (base == scheme_name<G>()) return f(G{});
+    }
+    return visit_composable<Sys, I + 1>(base, f);
+  }
+}
+
+// Calls f(G{}, family) for the composition named "<family>:<base>".
+template <class Sys, class F>
+decltype(auto) visit_composition(const std::string& name, F&& f) {
+  const CompositionName parsed = parse_composition_name(name);
+  const CompositionFamily& family = find_composition_family(parsed.family);
+  return visit_composable<Sys>(parsed.base, [&](auto g) { return f(g, family); });
+}
+
+// N steps of the composition from the system's initial data; observe(StepView, newton updates, max |Phi_d| over
+// the stages) at every q_j, j = 0..N.
+template <class Sys, class G, class Observer>
+void drive_composition(const Sys& sys, const CompositionFamily& family, double h, long N, Observer&& observe) {
+  constexpr int n = Sys::dof, m = Sys::constraints;
+  using C = Composition<Sys, G>;
+  C c(sys, family, h);
+  c.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
+  double phid = 0;
+  auto emit = [&](int updates) {
+    const auto& s = c.state();
+    observe(StepView<double, n, m>{s.j, s.t, s.q, s.p, s.z, s.lambda}, updates, phid);
+  };
+  emit(0);
+  for (long j = 0; j < N; ++j) {
+    phid = 0;
+    c.step([&](std::size_t i, const typename C::State& in, const typename C::State& out) {
+      (void)i;
+      (void)in;
+      (void)out;
+      if constexpr (m > 0)
+        phid = std::max(phid, discrete_constraint<Sys, typename G::quadrature, double>(sys, in.t, c.stage_h(i), in.q, out.q)
+                                  .template lpNorm<Eigen::Infinity>());
+    });
+    emit(c.last_updates());
+  }
+}
+
+template <class Sys>
+std::string composition_context(const std::string& name, double h) {
+  return std::string("system ") + Sys::name + ", composition " + name + ", h = " + show(h);
+}
+
+template <class Sys, class G>
+Run run_composition(const Sys& sys, const CompositionFamily& family, const std::string& name, double h, long every) {
+  constexpr int n = Sys::dof, m = Sys::constraints;
+  require(every >= 1, "every must be a positive integer");
+  const long N = step_count(h, horizon_of(sys));
+  Run run = empty_run<Sys>(G::contact, N);
+  long newton_sum = 0;
+  try {
+    drive_composition<Sys, G>(sys, family, h, N, [&](const StepView<double, n, m>& s, int updates, double phid) {
+      run.max_phi_d = std::max(run.max_phi_d, phid);
+      newton_sum += updates;
+      if (s.j % every != 0 && s.j != N) return;
+      append_step(run, sys, G::contact, s, phid, updates);
+    });
+  } catch (const NumericalFailure& e) {
+    throw e.within(composition_context<Sys>(name, h));
+  }
+  run.newton_mean = N > 0 ? double(newton_sum) / double(N) : 0;
+  return run;
+}
+
+
+template <class Sys, class G, class Metric>
+double max_over_composition(const Sys& sys, const CompositionFamily& family, const std::string& name, double h,
+                            const Reference& ref, Metric&& metric) {
+  constexpr int n = Sys::dof, m = Sys::constraints;
+  require(ref.n == n, "reference has the wrong dimension");
+  const long N = step_count(h, horizon_of(sys));
+  double err = 0;
+  try {
+    drive_composition<Sys, G>(sys, family, h, N, [&](const StepView<double, n, m>& s, int, double) {
+      const long r = ref.index(s.j, h);
+      for (int i = 0; i < n; ++i) err = std::max(err, metric(i, s.q(i), ref.q[static_cast<std::size_t>(r * n + i)]));
+    });
+  } catch (const NumericalFailure& e) {
+    throw e.within(composition_context<Sys>(name, h));
+  }
+  return err;
+}
+
+// As max_over_run for a scheme or a composition, by name.
+template <class Sys, class Metric>
+double max_over_named(const Sys& sys, const std::string& name, double h, Path path, const Reference& ref, Metric&& metric) {
+  if (is_composition_name(name))
+    return visit_composition<Sys>(name, [&](auto g, const CompositionFamily& f) {
+      return max_over_composition<Sys, decltype(g)>(sys, f, name, h, ref, metric);
+    });
+  return visit_scheme<Sys>(name, [&](auto g) { return max_over_run<Sys, decltype(g)>(sys, h, path, ref, metric); });
+}
+
+// ---------------------------------------------------------------------------------------------------
 // References
 
 template <class Sys>
@@ -317,11 +445,31 @@ template <class Sys, class C>
 struct has_closed_form_matrix<Sys, C, std::void_t<decltype(std::declval<const Sys&>().template closed_form_matrix<C>(0.0L))>>
     : std::true_type {};
 
+// The matrix of an affine one-step map on (q, p) (2n x 2n, row-major): columns are the images of the unit
+// vectors, minus the image of 0 (which carries any forcing). step(q, p) returns the state after one step.
+template <int n, class Step>
+std::vector<long double> affine_map_matrix(Step&& step) {
+  constexpr int N = 2 * n;
+  auto image = [&](const Vec<double, N>& x) {
+    const auto s = step(Vec<double, n>(x.template head<n>()), Vec<double, n>(x.template tail<n>()));
+    Vec<double, N> y;
+    y << s.q, s.p;
+    return y;
+  };
+  const Vec<double, N> zero = image(Vec<double, N>::Zero());
+  std::vector<long double> M(static_cast<std::size_t>(N * N));
+  for (int c = 0; c < N; ++c) {
+    const Vec<double, N> col = image(Vec<double, N>::Unit(c)) - zero;
+    for (int r = 0; r < N; ++r) M[static_cast<std::size_t>(r * N + c)] = col(r);
+  }
+  return M;
+}
+
 // The generic step's matrix: columns are the images of the unit vectors of (q, p), minus the image of 0 (which
 // carries any forcing). A closed form with a closed_form_matrix gives its own on the fast path.
 template <class Sys, class X>
 std::vector<long double> one_step_matrix_of(const Sys& sys, double h, Path path) {
-  constexpr int n = Sys::dof, N = 2 * n;
+  constexpr int n = Sys::dof;
   require_path<Sys, X>(path);
   using C = runner_of_t<Sys, X>;
   if constexpr (!std::is_void_v<C>) {
@@ -332,22 +480,23 @@ std::vector<long double> one_step_matrix_of(const Sys& sys, double h, Path path)
   if constexpr (is_extra_scheme_v<X>) {
     throw InputError(std::string("scheme '") + X::name + "' of system '" + Sys::name + "' gives no one-step matrix");
   } else {
-    auto image = [&](const Vec<double, N>& x) {
+    return affine_map_matrix<n>([&](const Vec<double, n>& q, const Vec<double, n>& p) {
       Stepper<Sys, X> st(sys, h);
-      st.restart(0, Vec<double, n>(x.template head<n>()), Vec<double, n>(x.template tail<n>()), 0.0);
+      st.restart(0, q, p, 0.0);
       st.step();
-      Vec<double, N> y;
-      y << st.state().q, st.state().p;
-      return y;
-    };
-    const Vec<double, N> zero = image(Vec<double, N>::Zero());
-    std::vector<long double> M(static_cast<std::size_t>(N * N));
-    for (int c = 0; c < N; ++c) {
-      const Vec<double, N> col = image(Vec<double, N>::Unit(c)) - zero;
-      for (int r = 0; r < N; ++r) M[static_cast<std::size_t>(r * N + c)] = col(r);
-    }
-    return M;
+      return st.state();
+    });
   }
+}
+
+template <class Sys, class G>
+std::vector<long double> composition_matrix_of(const Sys& sys, const CompositionFamily& family, double h) {
+  return affine_map_matrix<Sys::dof>([&](const Vec<double, Sys::dof>& q, const Vec<double, Sys::dof>& p) {
+    Composition<Sys, G> c(sys, family, h);
+    c.restart(0, q, p, 0.0);
+    c.step();
+    return c.state();
+  });
 }
 
 template <class Sys>
@@ -426,6 +575,18 @@ SystemInfo make_system_info() {
     }
     info.schemes.push_back(si);
   });
+  for (const auto& family : composition_families())
+    for (const auto& base : composable_schemes<Sys>()) {
+      const SchemeInfo& b = info.scheme(base);
+      SchemeInfo si;
+      si.name = composition_name(family.name, base);
+      si.order = family.order;
+      si.principle = family.name + " composition (" + std::to_string(family.stages()) + " stages) of " + base + ": " +
+                     b.principle;
+      si.quadrature = b.quadrature;
+      si.base = base;
+      info.compositions.push_back(si);
+    }
 
   info.expectations = expectations_of<Sys>();
   info.validate = [](const ParamValues& pv) { make_system<Sys>(pv).validate(); };
@@ -433,23 +594,23 @@ SystemInfo make_system_info() {
   info.run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, long every) {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
+    if (is_composition_name(scheme))
+      return visit_composition<Sys>(scheme, [&](auto g, const CompositionFamily& f) {
+        return run_composition<Sys, decltype(g)>(sys, f, scheme, h, every);
+      });
     return visit_scheme<Sys>(scheme, [&](auto g) { return run_scheme<Sys, decltype(g)>(sys, h, path, every); });
   };
   info.max_error = [](const ParamValues& pv, const std::string& scheme, double h, Path path, const Reference& ref) {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
-    return visit_scheme<Sys>(scheme, [&](auto g) {
-      return max_over_run<Sys, decltype(g)>(sys, h, path, ref, [](int, double q, double r) { return std::abs(q - r); });
-    });
+    return max_over_named(sys, scheme, h, path, ref, [](int, double q, double r) { return std::abs(q - r); });
   };
   info.max_relative_error = [](const ParamValues& pv, const std::string& scheme, double h, Path path,
                                const Reference& ref, double shift) {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
-    return visit_scheme<Sys>(scheme, [&](auto g) {
-      return max_over_run<Sys, decltype(g)>(sys, h, path, ref, [shift](int i, double q, double r) {
-        return i == 0 ? std::abs((shift + q) / (shift + r) - 1) : 0.0;
-      });
+    return max_over_named(sys, scheme, h, path, ref, [shift](int i, double q, double r) {
+      return i == 0 ? std::abs((shift + q) / (shift + r) - 1) : 0.0;
     });
   };
   info.reference = [](const ParamValues& pv, double h, long N, ReferenceKind kind, double tol) {
@@ -461,6 +622,17 @@ SystemInfo make_system_info() {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
     const long N = step_count(h, horizon_of(sys));
+    if (is_composition_name(scheme))
+      return visit_composition<Sys>(scheme, [&](auto g, const CompositionFamily& f) {
+        double last = 0;
+        return time_per_call(
+            [&] {
+              drive_composition<Sys, decltype(g)>(sys, f, h, N, [&](const StepView<double, Sys::dof, Sys::constraints>& v,
+                                                                     int, double) { last = v.q(0); });
+              do_not_optimize(last);
+            },
+            reps);
+      });
     return visit_scheme<Sys>(scheme, [&](auto g) {
       using G = decltype(g);
       double last = 0;
@@ -492,6 +664,10 @@ SystemInfo make_system_info() {
     sys.validate();
     require_positive(h, "h");
     if constexpr (is_linear<Sys>() && Sys::constraints == 0) {
+      if (is_composition_name(scheme))
+        return visit_composition<Sys>(scheme, [&](auto g, const CompositionFamily& f) {
+          return composition_matrix_of<Sys, decltype(g)>(sys, f, h);
+        });
       return visit_scheme<Sys>(scheme, [&](auto g) { return one_step_matrix_of<Sys, decltype(g)>(sys, h, path); });
     } else {
       return std::vector<long double>{};

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "geomint/io.hpp"
 #include "geomint/registry.hpp"
 
 namespace geomint::modified {
@@ -86,8 +87,10 @@ struct ModifiedSystem {
 };
 
 const std::vector<ModifiedSystem>& all_modified_systems();
-// "a b c": a list of names for an output header.
-std::string join_names(const std::vector<std::string>& names);
-const ModifiedSystem& find_modified_system(const std::string& name);  // InputError naming the known ones
+const ModifiedSystem& find_modified_system(const std::string& name);
+// The scheme `name` of `sys` for a modified equation: InputError for a name the system does not know, and for a
+// composition, whose modified equation is not derived here (the analysis works from a scheme's three-point
+// residual; a composition is a one-step map on (q, p)).
+const SchemeInfo& modified_scheme(const SystemInfo& sys, const std::string& name);  // InputError naming the known ones
 
 }  // namespace geomint::modified
