@@ -6,6 +6,7 @@
 // Writes out/<system>_convergence.tsv (one row per scheme, parameter combination and h), ..._fits.tsv
 // (least-squares order per scheme and combination) and ....{png,pdf} (a panel per combination).
 // Under mpirun -n N the ranks share the (combination, scheme, h) runs; rank 0 writes the same files.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -17,6 +18,7 @@
 #include "geomint/study.hpp"
 #include "geomint/sweep.hpp"
 #include "geomint/system_cli.hpp"
+#include "text_columns.hpp"
 
 using namespace geomint;
 
@@ -56,6 +58,7 @@ int main(int argc, char** argv) {
     const ConvergenceStudy study = convergence_study(sys, combos, schemes, hs, path, ref_kind, tol, sweep);
     if (!sweep.root()) return 0;
     const std::size_t S = schemes.size();
+    const int width = name_width(schemes, 20);
     Params params = sysopt.header();
     params.insert(params.end(), {{"h", format_list(hs)}, {"path", to_string(path)}, {"reference", ref_name},
                                  {"tol", format_number(tol)},
@@ -89,8 +92,8 @@ int main(int argc, char** argv) {
         auto r = row;
         r.insert(r.end(), {format_number(se.fit.slope), std::to_string(se.fit.points), std::to_string(se.expected_order)});
         fits.write_row(r);
-        std::printf("  %-20s %-24s fitted order %6.3f  err(h=%g) = %.3e\n    asymptotic range: %s\n", se.scheme.c_str(),
-                    label.c_str(), se.fit.slope, hs.front(), se.err.front(), se.asymptotic.describe().c_str());
+        std::printf("  %-*s %-*sfitted order %6.3f  err(h=%g) = %.3e\n    asymptotic range: %s\n", width,
+                    se.scheme.c_str(), label.empty() ? 0 : 25, label.c_str(), se.fit.slope, hs.front(), se.err.front(), se.asymptotic.describe().c_str());
       }
     }
     tsv.commit();

@@ -1,7 +1,9 @@
 // Integrates any registered system with any of its schemes and writes the trajectory, the energy and the
 // constraint residuals (the discrete one the scheme imposes, and the continuous one at the discrete state).
 //   integrate --system pendulum --scheme contact [--h 0.1] [--path fast|generic] [--every 1] [--alpha 0.2 ...]
-// Writes out/<system>_<scheme>.tsv (one row per kept step) and out/<system>_<scheme>.{png,pdf}.
+// Writes out/<system>_<scheme>.tsv (one row per kept step) and out/<system>_<scheme>.{png,pdf} (a composition
+// <family>:<base> as <family>_<base>).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -58,7 +60,8 @@ int main(int argc, char** argv) {
     cols.push_back("z");
     for (int c = 0; c < m; ++c) cols.push_back(comp("lambda", c, m));
     for (const char* c : {"energy", "phi_d", "phi", "newton"}) cols.push_back(c);
-    const std::string stem = sys.name + "_" + sc.name;
+    std::string stem = sys.name + "_" + sc.name;
+    std::replace(stem.begin(), stem.end(), ':', '_');  // a composition "<family>:<base>": no colon in a file name
     TsvWriter tsv(dir / (stem + ".tsv"), "integrate", params, cols);
     for (std::size_t r = 0; r < run.t.size(); ++r) {
       std::vector<std::string> cells{std::to_string(run.j[r]), format_number(run.t[r])};

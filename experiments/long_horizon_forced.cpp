@@ -5,10 +5,11 @@
 // decayed by e^{-alpha T/4}) q is fitted by least squares (GSL) to A sin(omega t) + B cos(omega t) + c:
 //   amp_err    |sqrt(A^2 + B^2) - C| / C
 //   phase_err  |atan2(-B, A) - delta| (rad)
-// Methods: every scheme the registry builds for the system (fast paths) and Odeint rk4 over steps per forcing
-// period; Odeint dopri5, Bulirsch–Stoer and GSL rk8pd over tolerance (abs = rel) on the equation written by hand.
+// Methods: every scheme the registry builds for the system (fast paths) and compositions of order 4, 6 and 8 of
+// la-trapezoid (generic steps; --schemes names others), and Odeint rk4, over steps per forcing period; Odeint
+// dopri5, Bulirsch–Stoer and GSL rk8pd over tolerance (abs = rel) on the equation written by hand.
 //   long_horizon_forced [--periods 100 300] [--m 8 16 32 64 128] [--tol 1e-5 1e-7 1e-9 1e-11] [--reps 3]
-//                       [--alpha 0.1] [--beta 0.3] [--omega 1.0471975511965976] [--out out]
+//                       [--schemes ...] [--alpha 0.1] [--beta 0.3] [--omega 1.0471975511965976] [--out out]
 // The study in docs/speed-accuracy.md:
 //   long_horizon_forced --periods 100 1000 10000 --m 8 16 32 64 128 256 512 --tol 1e-5 1e-7 1e-9 1e-11
 // With the default omega = pi/3 the forcing period is 6, T = 6 periods and h = 6/m divide exactly; another
@@ -154,13 +155,17 @@ int main(int argc, char** argv) {
     std::vector<double> periods{100, 300}, ms{8, 16, 32, 64, 128}, tols{1e-5, 1e-7, 1e-9, 1e-11};
     double alpha = 0.1, beta = 0.3, omega = kPi / 3;
     int reps = 3;
+    std::vector<std::string> schemes;
     Cli cli("long_horizon_forced", "long-horizon steady-state amplitude and phase error against CPU time: forced oscillator");
     cli.options.add_options()("periods", po::value(&periods)->multitoken(), "horizons in forcing periods (default 100 300)")(
         "m", po::value(&ms)->multitoken(), "steps per forcing period of the fixed-step methods (default 8 .. 128)")(
         "tol", po::value(&tols)->multitoken(), "tolerances (abs = rel) of the adaptive methods (default 1e-5 .. 1e-11)")(
         "alpha", po::value(&alpha)->default_value(alpha), "damping")("beta", po::value(&beta)->default_value(beta), "forcing amplitude")(
         "omega", po::value(&omega)->default_value(omega, "pi/3"), "forcing frequency")(
-        "reps", po::value(&reps)->default_value(reps), "timed repetitions");
+        "reps", po::value(&reps)->default_value(reps), "timed repetitions")(
+        "schemes", po::value(&schemes)->multitoken(),
+        "the geometric methods: schemes and compositions <family>:<base> of the system (default: every scheme, and "
+        "yoshida4, yoshida6a and kahanli8 of la-trapezoid)");
     if (!cli.parse(argc, argv)) return 0;
     require(!periods.empty() && !ms.empty() && !tols.empty(), "give at least one value per list");
     require(std::isfinite(alpha) && alpha > 0, "alpha must be positive (a steady state needs damping), got " + show(alpha));
@@ -172,6 +177,11 @@ int main(int argc, char** argv) {
     require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
     std::sort(periods.begin(), periods.end());
     const SystemInfo& sys = find_system("forced-oscillator");
+    if (schemes.empty()) {
+      schemes = sys.scheme_names();
+      for (const char* c : {"yoshida4:la-trapezoid", "yoshida6a:la-trapezoid", "kahanli8:la-trapezoid"}) schemes.push_back(c);
+    }
+    for (const auto& s : schemes) sys.scheme(s);  // InputError naming the known ones, before any work
     const double Tf = 2 * kPi / omega;
     auto values_for = [&](double P) {
       return ParamValues{{"alpha", alpha}, {"beta", beta}, {"omega", omega}, {"dq0", 0}, {"dv0", 0}, {"T", P * Tf}};
@@ -202,7 +212,7 @@ int main(int argc, char** argv) {
         const double h = Tf / m;
         const long N = step_count(h, T);
         const long every = std::max(1L, static_cast<long>(m / 16));
-        for (const auto& name : sys.scheme_names()) {
+        for (const auto& name : schemes) {
           auto run = [&, name, h, every](bool) {
             const Run r = sys.run(pv, name, h, Path::fast, every);
             SteadyFit fit(omega, T / 2);
@@ -247,6 +257,7 @@ int main(int argc, char** argv) {
                         {"alpha", format_number(alpha)}, {"beta", format_number(beta)}, {"omega", format_number(omega)},
                         {"periods", format_list(periods) + " (forcing periods 2 pi/omega)"}, {"m", format_list(ms) + " (steps per forcing period)"},
                         {"tol", format_list(tols) + " (abs = rel)"}, {"reps", std::to_string(reps)},
+                        {"schemes", join_names(schemes) + " (compositions run the generic step of their base)"},
                         {"steady state", "C = " + format_number(C) + ", delta = " + format_number(delta)},
                         {"measures", "least squares q = A sin(omega t) + B cos(omega t) + c over t >= T/2; amp_err = |hypot(A,B) - C|/C; "
                                      "phase_err = |atan2(-B, A) - delta| rad"}};

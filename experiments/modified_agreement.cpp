@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     for (const auto& s : systems) {
       const auto& info = find_system(s);
       require(info.constraints == 0, "system '" + s + "' is constrained: use nonholonomic_modified");
-      for (const auto& x : schemes) info.scheme(x);
+      for (const auto& x : schemes) modified_scheme(info, x);
     }
     const ParamValues pv{{"alpha", alpha}};
     for (const auto& s : systems) find_system(s).validate(pv);

@@ -18,6 +18,7 @@
 #include "geomint/plots/figure.hpp"
 #include "geomint/sweep.hpp"
 #include "geomint/system_cli.hpp"
+#include "text_columns.hpp"
 
 using namespace geomint;
 using namespace geomint::modified;
@@ -87,7 +88,8 @@ int main(int argc, char** argv) {
     if (!sweep.root()) return 0;
     TsvWriter tsv(dir / "stability_oscillator.tsv", "stability_oscillator", params,
                   {"scheme", "h", "alpha", "spectral_radius", "region", "decay_ratio", "freq_ratio"});
-    std::printf("%-12s %10s %10s %10s %10s   (share of the grid)\n", "scheme", "faithful", "wrong-char", "sign-flip",
+    const int width = name_width(names, 12);
+    std::printf("%-*s %10s %10s %10s %10s   (share of the grid)\n", width, "scheme", "faithful", "wrong-char", "sign-flip",
                 "unstable");
     for (std::size_t si = 0; si < names.size(); ++si) {
       const auto& s = names[si];
@@ -99,7 +101,7 @@ int main(int argc, char** argv) {
                 c.region, c.decay_ratio, c.freq_ratio);
       }
       const double tot = static_cast<double>(n) * n;
-      std::printf("%-12s %10.3f %10.3f %10.3f %10.3f\n", s.c_str(), count[0] / tot, count[1] / tot, count[2] / tot,
+      std::printf("%-*s %10.3f %10.3f %10.3f %10.3f\n", width, s.c_str(), count[0] / tot, count[1] / tot, count[2] / tot,
                   count[3] / tot);
     }
     tsv.commit();
@@ -221,8 +223,9 @@ int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<s
   const std::string stem = sys.name + "_stability";
   TsvWriter tsv(dir / (stem + ".tsv"), "stability_oscillator", params,
                 {"scheme", "h", "alpha", "spectral_radius", "region", "decay_ratio", "freq_low", "freq_high"});
-  std::printf("%s: %-18s %10s %10s %10s %10s   (share of the grid)\n", sys.name.c_str(), "scheme", "faithful", "wrong-char",
-              "sign-flip", "unstable");
+  const int width = name_width(names, 18);
+  std::printf("%s: %-*s %10s %10s %10s %10s   (share of the grid)\n", sys.name.c_str(), width, "scheme", "faithful",
+              "wrong-char", "sign-flip", "unstable");
   for (std::size_t si = 0; si < names.size(); ++si) {
     int count[4] = {0, 0, 0, 0};
     for (std::size_t k = si * per; k < (si + 1) * per; ++k) {
@@ -232,7 +235,7 @@ int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<s
               c.region, c.decay_ratio, c.freq_low, c.freq_high);
     }
     const double tot = static_cast<double>(n) * n;
-    std::printf("%s: %-18s %10.3f %10.3f %10.3f %10.3f\n", sys.name.c_str(), names[si].c_str(), count[0] / tot,
+    std::printf("%s: %-*s %10.3f %10.3f %10.3f %10.3f\n", sys.name.c_str(), width, names[si].c_str(), count[0] / tot,
                 count[1] / tot, count[2] / tot, count[3] / tot);
   }
   tsv.commit();

@@ -277,7 +277,7 @@ py::dict modified_equation(const System& s, const std::string& scheme, int K, do
                            const std::vector<double>& v_in, double z, const py::dict& params) {
   const ParamValues pv = param_values(params);
   s.info().validate(pv);
-  s.info().scheme(scheme);
+  modified::modified_scheme(s.info(), scheme);
   const auto q = point_or_initial(s, pv, q_in, false), v = point_or_initial(s, pv, v_in, true);
   const auto& ms = s.modified();
   modified::ModifiedPoint r;
@@ -303,7 +303,7 @@ py::dict modified_equation(const System& s, const std::string& scheme, int K, do
 
 py::dict modified_formulas(const System& s, const std::string& scheme, int K, double budget, const py::dict& params) {
   const ParamValues pv = param_values(params);
-  s.info().scheme(scheme);
+  modified::modified_scheme(s.info(), scheme);
   require(std::isfinite(budget) && budget > 0, "budget must be a positive number of seconds");
   const auto& ms = s.modified();
   modified::ModifiedFormulas f;
@@ -335,7 +335,7 @@ py::dict modified_formulas(const System& s, const std::string& scheme, int K, do
 py::dict modified_agreement(const System& s, const std::string& scheme, int K, double h, double T, double tol,
                             const py::dict& params) {
   const ParamValues pv = param_values(params);
-  s.info().scheme(scheme);
+  modified::modified_scheme(s.info(), scheme);
   if (!(T > 0)) T = s.info().horizon(pv);
   const auto& ms = s.modified();
   modified::ModifiedAgreement a;
@@ -483,7 +483,21 @@ PYBIND11_MODULE(_geomint, m) {
             }
             return d;
           },
-          "{name: {principle, quadrature, order, fast_path}}")
+          "{name: {principle, quadrature, order, fast_path}}: what runs when no scheme is named")
+      .def_property_readonly(
+          "compositions",
+          [](const System& s) {
+            py::dict d;
+            for (const auto& c : s.info().compositions) {
+              py::dict e;
+              e["principle"] = c.principle;
+              e["base"] = c.base;
+              e["order"] = c.order;
+              d[py::str(c.name)] = e;
+            }
+            return d;
+          },
+          "{'<family>:<base>': {principle, base, order}}: compositions of the symmetric schemes, run when named")
       .def(
           "validate", [](const System& s, const py::dict& params) { s.info().validate(param_values(params)); },
           py::arg("params") = py::dict(), "InputError naming the first bad value")

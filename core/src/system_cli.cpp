@@ -5,9 +5,22 @@
 
 #include "geomint/error.hpp"
 #include "geomint/formula/formula_registry.hpp"
+#include "geomint/generic/composition_families.hpp"
 #include "geomint/io.hpp"
 
 namespace geomint {
+
+namespace {
+// The compositions a system runs when named: families (order, stages) and bases, not every pairing.
+std::string composition_caption(const SystemInfo& sys) {
+  if (sys.compositions.empty()) return "";
+  std::string families;
+  for (const auto& f : generic::composition_families())
+    families += "\n    " + f.name + ": order " + std::to_string(f.order) + ", " + std::to_string(f.stages()) + " stages";
+  return "\n  <family>:<base> (run when named, e.g. " + sys.compositions.front().name +
+         "): a composition of a symmetric scheme, base one of " + join_names(sys.composition_bases(), ", ") + "; families:" + families;
+}
+}  // namespace
 
 namespace {
 // --system X or --system=X in argv (a repeat is refused by Cli::parse later).
@@ -74,6 +87,7 @@ SystemOptions::SystemOptions(Cli& cli, int argc, char** argv, const std::string&
   // --help --system X: the system's schemes (what --scheme/--schemes take), then its parameters as options
   std::string caption = "Schemes of system '" + system_->name + "':";
   for (const auto& s : system_->schemes) caption += "\n  " + s.name + ": " + s.description();
+  caption += composition_caption(*system_);
   caption += "\n\nParameters of system '" + system_->name + "' (" + system_->description + (sweep ? "; several values sweep" : "") + ")";
   po::options_description sys_opts(caption);
   for (std::size_t i = 0; i < system_->params.size(); ++i) {

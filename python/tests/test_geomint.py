@@ -134,6 +134,17 @@ def test_a_system_defined_in_python_converges_at_every_schemes_order():
     assert c["reference"].startswith("Boost.Odeint")
 
 
+def test_a_formula_system_has_compositions_that_converge_at_their_order():
+    # the Duffing oscillator of python: compositions of its symmetric schemes are schemes like the others
+    sys = duffing()
+    assert sys.compositions["yoshida4:la-trapezoid"]["order"] == 4
+    assert sys.compositions["yoshida6a:contact-trapezoid"]["base"] == "contact-trapezoid"
+    assert not any(":" in name for name in sys.schemes)  # run only when named
+    c = sys.convergence(["yoshida4:la-trapezoid", "yoshida6a:la-midpoint"], h_max=0.2, h_min=0.025)
+    for scheme, order in c["fitted_order"].items():
+        assert abs(order - c["expected_order"][scheme]) < 0.15, (scheme, order, c["error"][scheme])
+
+
 def test_work_precision_errors_are_the_convergence_errors():
     sys = geomint.system("oscillator")
     hs = [0.1, 0.05, 0.025]
