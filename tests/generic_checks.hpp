@@ -113,5 +113,67 @@ void check_all_fast_paths(const Sys& sys, double h, long N) {
   }, typename Sys::fast_paths{});
 }
 
+// ---- the Newton linearization
+// The stepper differentiates a step's rows in the unknowns they depend on nonlinearly, (q_{j+1}, [z_{j+1}]), and
+// takes the lambda columns from the rows' own -A^T (StepRows::dynamics_lambda). That must be the Jacobian a
+// forward pass in all K directions gives, entry for entry (the same operations on the same values in every
+// direction), for every scheme, at states along a run (lambda not 0) and at unknowns off the solution.
+template <class Sys>
+void check_linearization(const Sys& sys, double h) {
+  std::apply([&](auto... g) {
+    (([&] {
+       using G = decltype(g);
+       using St = generic::Stepper<Sys, G>;
+       constexpr int n = Sys::dof, m = Sys::constraints, K = St::K;
+       using D = Dual<double, K>;
+       St st(sys, h);
+       st.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
+       std::mt19937 rng(5);
+       std::uniform_real_distribution<double> u(-1, 1);
+       long mismatches = 0, entries = 0;
+       for (int k = 0; k < 6; ++k) {
+         st.step();
+         const auto& s = st.state();
+         Vec<double, K> x;
+         for (int i = 0; i < n; ++i) x(i) = s.q(i) + 0.01 * u(rng);
+         if constexpr (St::nz == 1) x(n) = s.z + 0.01 * u(rng);
+         for (int i = 0; i < m; ++i) x(K - m + i) = s.lambda(i) + 0.01 * u(rng);
+         const auto fast = st.linearized_at(x);
+         // the full pass, written out here from the scheme's rows
+         Vec<D, K> X;
+         for (int i = 0; i < K; ++i) X(i) = D::variable(x(i), i);
+         D z1 = D(s.z);
+         if constexpr (St::nz == 1) z1 = X(n);
+         Vec<D, m> lambda;
+         if constexpr (m > 0) lambda = X.template tail<m>();
+         const auto rows = G::template rows<Sys, D>(sys, D(s.t), D(h), Vec<D, n>(s.q.template cast<D>()),
+                                                    Vec<D, n>(s.p.template cast<D>()), D(s.z),
+                                                    Vec<D, n>(X.template head<n>()), z1, lambda);
+         Vec<D, K> R;
+         R.template head<n>() = rows.dynamics;
+         if constexpr (St::nz == 1) R(n) = rows.action;
+         if constexpr (m > 0) R.template tail<m>() = rows.constraint;
+         auto same = [&](double a, double b) {
+           ++entries;
+           if (!(a == b)) ++mismatches;
+         };
+         for (int r = 0; r < K; ++r) {
+           same(fast.R(r), R(r).v);
+           for (int c = 0; c < K; ++c) same(fast.lin.J(r, c), R(r).d[std::size_t(c)]);
+         }
+         for (int i = 0; i < n; ++i) {
+           same(fast.out.p_next(i), rows.p_next(i).v);
+           for (int c = 0; c < K; ++c) same(fast.lin.dP(i, c), rows.p_next(i).d[std::size_t(c)]);
+         }
+         same(fast.out.z_next, rows.z_next.v);
+         for (int c = 0; c < K; ++c) same(fast.lin.dZ(c), rows.z_next.d[std::size_t(c)]);
+       }
+       INFO(Sys::name << " " << generic::scheme_name<G>() << ": " << mismatches << " of " << entries
+                      << " entries differ from the full forward pass");
+       CHECK(mismatches == 0);
+     }()),
+     ...);
+  }, generic::AllSchemesTuple{});
+}
 
 }  // namespace geomint::testing

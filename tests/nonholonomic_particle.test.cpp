@@ -76,3 +76,7 @@ TEST_CASE("particle: the LA step is the fast path of the generic la scheme, equa
   testing::check_all_fast_paths(sys, 0.05, 20000);
   testing::check_equations(sys);
 }
+
+TEST_CASE("particle: Newton's Jacobian, lambda columns from the rows, is the full forward pass's", "[generic][newton]") {
+  testing::check_linearization(systems::NonholonomicParticle{}, 0.05);
+}

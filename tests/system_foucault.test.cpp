@@ -100,3 +100,13 @@ TEST_CASE("foucault: the closed form solves the equations derived from L and (13
   fo.alpha = 0.1;
   for (double t : {1.0, 30.0}) check_exact_solves(fo, t);
 }
+
+TEST_CASE("foucault, both constraints: Newton's Jacobian, lambda columns from the rows, is the full forward pass's",
+          "[generic][newton]") {
+  systems::Foucault paper;
+  paper.Omega = 0.05;  // a visible constraint force
+  check_linearization(paper, 0.1);
+  systems::FoucaultRotation rotation;
+  rotation.Omega = 0.05;
+  check_linearization(rotation, 0.1);
+}

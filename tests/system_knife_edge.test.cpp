@@ -20,3 +20,7 @@ TEST_CASE("the kinetic-metric projection puts the initial velocity on the constr
   // the change is M^{-1} A^T mu with A = (sin th, -cos th, 0): the heading rate is untouched
   CHECK(w(2) == Approx(v(2)).epsilon(1e-15));
 }
+
+TEST_CASE("knife edge: Newton's Jacobian, lambda columns from the rows, is the full forward pass's", "[generic][newton]") {
+  check_linearization(systems::KnifeEdge{}, 0.1);
+}

@@ -35,3 +35,7 @@ TEST_CASE("a system that wrongly declares itself linear is caught by the single-
   CHECK(so.jacobians() == 1);
   CHECK(so.total_updates() == 20000);
 }
+
+TEST_CASE("pendulum: Newton's Jacobian (z_{j+1} implicit for contact-trapezoid) is the full forward pass's", "[generic][newton]") {
+  testing::check_linearization(systems::Pendulum{}, 0.1);
+}

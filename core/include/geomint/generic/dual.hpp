@@ -34,9 +34,17 @@ auto primal(const X& x) {
     return x;
 }
 
+// Built-in numbers, and duals over them (nested at any depth): the scalars whose products with a constant
+// built-in number skip the constant's (zero) derivatives.
+template <class X>
+struct over_builtin : std::is_arithmetic<X> {};
+template <class T, int N>
+struct over_builtin<Dual<T, N>> : over_builtin<T> {};
+
 template <class T, int N>
 class Dual {
  public:
+  using value_type = T;
   T v{};
   std::array<T, N> d{};
 
@@ -87,6 +95,34 @@ class Dual {
     const T inv = T(1) / b.v;
     r.v = a.v * inv;
     for (int i = 0; i < N; ++i) r.d[i] = (a.d[i] - r.v * b.d[i]) * inv;
+    return r;
+  }
+
+  // A built-in constant c: c a, a c, a / c, a + c, a - c, c + a, c - a carry no derivative of c, so they are
+  // N (+ 1) operations on the parts instead of a full product (a system's parameters, quadrature weights; the
+  // same values: a.d[i] c where the full product adds a.v 0). Only over built-in value types, whose products
+  // with a built-in number are defined.
+  template <class C>
+  using if_constant = std::enable_if_t<std::is_arithmetic_v<C> && over_builtin<T>::value, int>;
+  template <class C, if_constant<C> = 0>
+  friend Dual operator*(const Dual& a, const C& c) {
+    Dual r;
+    r.v = a.v * c;
+    for (int i = 0; i < N; ++i) r.d[i] = a.d[i] * c;
+    return r;
+  }
+  template <class C, if_constant<C> = 0>
+  friend Dual operator*(const C& c, const Dual& a) {
+    Dual r;
+    r.v = c * a.v;
+    for (int i = 0; i < N; ++i) r.d[i] = c * a.d[i];
+    return r;
+  }
+  template <class C, if_constant<C> = 0>
+  friend Dual operator/(const Dual& a, const C& c) {
+    Dual r;
+    r.v = a.v / c;
+    for (int i = 0; i < N; ++i) r.d[i] = a.d[i] / c;
     return r;
   }
 

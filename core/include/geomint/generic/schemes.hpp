@@ -198,6 +198,26 @@ Vec<S, Sys::constraints> discrete_constraint_scale(const Sys& sys, const S& t, c
   }
 }
 
+// Phi_d and its round-off scale from one evaluation of A and b at the quadrature's point (the same values as
+// the two functions above): what a step's rows need at every Newton iterate.
+template <class S, int m>
+struct ConstraintRows {
+  Vec<S, m> value, scale;
+};
+template <class Sys, class Quad, class S, int n = Sys::dof>
+ConstraintRows<S, Sys::constraints> discrete_constraint_rows(const Sys& sys, const S& t, const S& h, const Vec<S, n>& q0,
+                                                             const Vec<S, n>& q1) {
+  constexpr int m = Sys::constraints;
+  if constexpr (has_holonomic_v<Sys>) {
+    return {sys.holonomic(S(t + h), q1), Vec<S, m>::Zero()};
+  } else {
+    const auto x = Quad::template psi<Sys>(t, h, q0, q1);
+    const Mat<S, m, n> A = sys.constraint_matrix(x.t, x.q);
+    const Vec<S, m> b = sys.constraint_offset(x.t, x.q);
+    return {A * x.v + b, A.cwiseAbs() * x.v.cwiseAbs() + b.cwiseAbs()};
+  }
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Partial derivatives of 𝓛 by one forward pass over the arguments of interest.
 
@@ -274,6 +294,11 @@ struct StepRows {
   Vec<S, n> dynamics;   // the n rows of (1) or (4)
   S action;             // z_{j+1} - z_j - 𝓛 (contact with implicit z; 0 otherwise)
   Vec<S, m> constraint; // Phi_d
+  // d dynamics / d lambda = -A(t_j, q_j)^T: the rows are affine in lambda (it enters only as the constraint
+  // impulse -A^T lambda, A taken at the start of the step), and no other row or output depends on it. The
+  // stepper takes the Jacobian's lambda columns from here instead of differentiating the rows in m more
+  // directions (checked against that full forward pass in tests/generic_checks.hpp).
+  Mat<S, n, m> dynamics_lambda;
   Vec<S, n> dynamics_scale;
   S action_scale;
   Vec<S, m> constraint_scale;
@@ -332,9 +357,11 @@ struct LagrangeDAlembert {
       const Mat<S, m, n> A = sys.constraint_matrix(t, q0);
       const Vec<S, n> force = A.transpose() * lambda;
       r.dynamics -= force;
+      r.dynamics_lambda = -A.transpose();
       r.dynamics_scale += force.cwiseAbs();
-      r.constraint = discrete_constraint<Sys, Quad>(sys, t, h, q0, q1);
-      r.constraint_scale = discrete_constraint_scale<Sys, Quad>(sys, t, h, q0, q1);
+      const auto phi = discrete_constraint_rows<Sys, Quad>(sys, t, h, q0, q1);
+      r.constraint = phi.value;
+      r.constraint_scale = phi.scale;
     }
     r.action = S(0);
     r.action_scale = S(0);
@@ -421,9 +448,11 @@ struct Herglotz {
       const Mat<S, m, n> A = sys.constraint_matrix(t, q0);
       const Vec<S, n> force = A.transpose() * lambda;
       r.dynamics -= force;
+      r.dynamics_lambda = -A.transpose();
       r.dynamics_scale += force.cwiseAbs();
-      r.constraint = discrete_constraint<Sys, Quad>(sys, t, h, q0, q1);
-      r.constraint_scale = discrete_constraint_scale<Sys, Quad>(sys, t, h, q0, q1);
+      const auto phi = discrete_constraint_rows<Sys, Quad>(sys, t, h, q0, q1);
+      r.constraint = phi.value;
+      r.constraint_scale = phi.scale;
     }
     if constexpr (Quad::implicit_z) {
       r.action = z1 - z0 - D.value;
