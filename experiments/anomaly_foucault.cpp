@@ -103,6 +103,12 @@ int main(int argc, char** argv) {
       for (double h : hs) steps += base.T / h;
       plan_steps(steps * static_cast<double>(runs * names.size() * constraints.size() * alphas.size()),
                  "the ensemble (runs x schemes x constraints x alpha x T/h)");
+      // every case is held as a case, a result (and its bytes while gathered), and its costs, whatever the budget;
+      // the jumps a run records (a few per run) come on top
+      const double cases = static_cast<double>(hs.size()) * static_cast<double>(runs) *
+                           static_cast<double>(names.size() * constraints.size() * alphas.size());
+      check_memory(cases * (sizeof(AnomalyCase) + 2 * sizeof(AnomalyRun) + 3 * sizeof(double)),
+                   "the ensemble's " + show(cases) + " runs (lower --runs)");
     }
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
 

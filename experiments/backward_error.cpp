@@ -37,8 +37,10 @@ int main(int argc, char** argv) {
     if (!cli.parse(argc, argv)) return 0;
     const auto hs = halving_sequence(h_max, h_min);
     // the discrete runs, their modified solutions and the all-orders runs: about 5 runs per (scheme, alpha, h)
+    // a planned step costs ~250 ns (the Odeint solutions of the modified equations; measured: 0.48 s of CPU per
+    // 1.9e6 planned steps, T = 50 -> 100): 5 cheap steps
     for (double h : hs) plan_steps(5.0 * 2 * static_cast<double>(alphas.size()) * static_cast<double>(step_count(h, T)),
-                                   "the sweep (schemes x alpha x starts x T/h)");
+                                   "the sweep (schemes x alpha x starts x T/h)", 5);
     const SystemInfo& osc = find_system("oscillator");
     auto scene = [&](double a) { return ParamValues{{"alpha", a}, {"q0", q0}, {"p0", p0}, {"T", T}}; };
     for (double a : alphas) osc.validate(scene(a));

@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
       for (double h : hs)
         plan_steps(static_cast<double>(step_count(h, sys.horizon(pv))) * static_cast<double>(schemes.size()),
                    "the sweep (combinations x schemes x T/h)");
+    for (const auto& pv : combos) check_reference_memory(sys, ref_kind, step_count(hs.back(), sys.horizon(pv)));
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const std::string stem = sys.name + "_convergence";
 

@@ -59,6 +59,10 @@ int main(int argc, char** argv) {
     // Validate everything before writing anything.
     const auto hs = halving_sequence(h_max, h_min);
     require(!horizons.empty() && !alphas.empty(), "give at least one horizon and one alpha");
+    // the reference on the grid h_min / 2 (below): its times and its states (q, q'), and Odeint's copy of them
+    for (double T : horizons)
+      check_memory(double(step_count(hs.back() / 2, T) + 1) * sizeof(double) * (1 + 2 * 4),
+                   "the reference on h_min / 2 over T = " + show(T) + " (lower --T or raise --h-min)");
     for (double T : horizons)
       for (double h : hs)
         plan_steps(static_cast<double>(names.size() * alphas.size()) * static_cast<double>(step_count(h, T)),

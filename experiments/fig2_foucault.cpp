@@ -85,7 +85,10 @@ int main(int argc, char** argv) {
     for (std::size_t ih = 0; ih < hs.size(); ++ih) {
       const double h = hs[ih];
       const long N = step_count(h, base.T);
-      const long every = std::max(1L, std::lround(sample_dt / h));
+      // in double first: a sample-dt beyond T (up to 1e308) keeps one sample a run (and the turning points), not every
+      // step as a long overflowing to its minimum would
+      const double per = std::round(sample_dt / h);
+      const long every = per >= static_cast<double>(N) ? std::max(1L, N) : std::max(1L, static_cast<long>(per));
       const std::string stem = ih == 0 ? stem0 : stem0 + "_h" + format_number(h);
       Params params{{"h", format_number(h)},
                           {"T", format_number(base.T)},

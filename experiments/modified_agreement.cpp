@@ -82,8 +82,10 @@ int main(int argc, char** argv) {
     };
     for (std::size_t ki = 0; ki < orders.size(); ++ki)
       for (double h : steps_of(ki))
+        // a planned step costs ~0.5 ms (the order-K modified equation solved by Odeint at tol 1e-13 along it;
+        // measured: 2.35 s of CPU per 4410 planned steps, T = 2 -> 4 at the defaults): 1e4 cheap steps
         plan_steps(static_cast<double>(systems.size() * schemes.size()) * static_cast<double>(step_count(h, T)),
-                   "the sweep (systems x schemes x T/h per order)");
+                   "the sweep (systems x schemes x T/h per order)", 1e4);
     for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
     for (const auto& s : systems) {
       const auto& info = find_system(s);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -38,6 +39,9 @@ int main(int argc, char** argv) {
     require(reps >= 1 && reps <= 100, "reps must be in [1, 100]");
     for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
     for (const auto& s : systems) find_system(s);
+    // every cell is `reps` timed loops of at least `seconds` (and one untimed loop first)
+    plan_seconds(static_cast<double>(systems.size() * schemes.size() * orders.size()) * (reps + 1) * seconds,
+                 "the timed loops (systems x schemes x orders x (reps + 1) x --seconds)");
     const auto dir = prepare_output_dir(cli.out);
     TsvWriter tsv(dir / "modified_cost_timings.tsv", "modified_cost",
                   {{"seconds", format_number(seconds)}, {"reps", std::to_string(reps)}},

@@ -61,13 +61,18 @@ int main(int argc, char** argv) {
     require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
     std::vector<double> hs;
     for (int i = 0; i <= halvings; ++i) hs.push_back(h_max / std::pow(2.0, i));
-    for (double h : hs) plan_steps(static_cast<double>(step_count(h, T)), "the sweep (T/h per run)");
     for (int K : orders) require(K >= 0 && K <= 4, "orders must be in [0, 4]");
     for (const auto& s : systems) {
       const auto& info = find_system(s);
       require(info.constraints > 0, "system '" + s + "' has no constraint");
       for (const auto& x : schemes) modified_scheme(info, x);
     }
+    // every (system, scheme, order, h) is a run of T/h discrete steps (long double) and an Odeint solution of its
+    // modified equation with multiplier rows over the same grid: ~3 ms a planned step (measured: 2.5 s of CPU per
+    // 840 planned steps, T = 2 -> 4 at the defaults), 5e4 cheap steps
+    for (double h : hs)
+      plan_steps(static_cast<double>(systems.size() * schemes.size() * orders.size()) * static_cast<double>(step_count(h, T)),
+                 "the sweep (systems x schemes x orders x T/h)", 5e4);
     const ParamValues pv{{"alpha", alpha}};
     for (const auto& s : systems) find_system(s).validate(pv);
     const auto dir = prepare_output_dir(cli.out);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -35,7 +36,10 @@ int main(int argc, char** argv) {
     const auto swept = sysopt.swept();
     const auto schemes = sysopt.schemes(names);
     const Path path = parse_path(path_name);
-    for (const auto& pv : combos) step_count(h, sys.horizon(pv));
+    for (const auto& pv : combos) check_reference_memory(sys, ReferenceKind::exact, step_count(h, sys.horizon(pv)));
+    for (const auto& pv : combos)
+      plan_steps(static_cast<double>(schemes.size() + 1) * static_cast<double>(step_count(h, sys.horizon(pv))),
+                 "the sweep (schemes and the reference x T/h per parameter set)");
     const auto dir = prepare_output_dir(cli.out);
     const std::string stem = sys.name + "_regularized_error";
 

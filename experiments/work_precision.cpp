@@ -6,7 +6,7 @@
 // Bulirsch–Stoer, GSL rk8pd) over tolerance; adaptive errors are the max over the steps each method chose
 // (no forced output grid, which would cap their step size). Each time is the median of repeated runs
 // after a warm-up.
-//   work_precision [--alpha 0.01 0.1 1] [--reps 5] [--out out]
+//   work_precision [--alpha 0.01 0.1 1] [--h-max 0.2] [--h-min 2e-4] [--reps 5] [--out out]
 //   work_precision --system pendulum [--schemes ...] [--h-max 0.1] [--h-min 1e-3] [--reps 5] [parameters]
 // Writes out/work_precision.tsv (errors: reproducible), out/work_precision_timings.tsv (timings) and
 // out/work_precision.{png,pdf}; for another system, out/<system>_work_precision{,_timings}.tsv and a figure.
@@ -19,6 +19,7 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/gsl_evolve.hpp"
@@ -156,23 +157,32 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
 }  // namespace
 
 int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const std::vector<std::string>& names,
-                           double h_max, double h_min, int reps);
+                           const std::vector<double>& hs, int reps);
 
 int main(int argc, char** argv) {
   return guarded_main("work_precision", [&] {
     int reps = 5;
-    double h_max = 0.1, h_min = 1e-3;
+    // the step sizes' defaults depend on the system (the paper's oscillator sweeps further), so a value given is
+    // told apart from none: every value given is checked and used, whatever the system
+    double h_max = 0, h_min = 0;
+    bool h_max_given = false, h_min_given = false;
     std::vector<std::string> names;
     Cli cli("work_precision", "error against CPU time: geomint schemes and Odeint/GSL baselines");
     SystemOptions sysopt(cli, argc, argv, "oscillator", true);
     cli.options.add_options()("reps", po::value(&reps)->default_value(reps), "timed repetitions")(
         "schemes", po::value(&names)->multitoken(), "schemes (other systems; default: every scheme of the system)")(
-        "h-max", po::value(&h_max)->default_value(h_max, "0.1"), "largest step (other systems)")(
-        "h-min", po::value(&h_min)->default_value(h_min, "1e-3"), "halve until h <= h-min (other systems)");
+        "h-max", po::value(&h_max)->notifier([&](double) { h_max_given = true; }),
+        "largest step (default 0.2 on the oscillator, 0.1 on other systems)")(
+        "h-min", po::value(&h_min)->notifier([&](double) { h_min_given = true; }),
+        "halve until h <= h-min (default 2e-4 on the oscillator, 1e-3 on other systems)");
     if (!cli.parse(argc, argv)) return 0;
     require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
     const auto combos = sysopt.combinations();
-    if (sysopt.system().name != "oscillator") return generic_work_precision(cli, sysopt, names, h_max, h_min, reps);
+    const bool oscillator = sysopt.system().name == "oscillator";
+    if (!h_max_given) h_max = oscillator ? 0.2 : 0.1;
+    if (!h_min_given) h_min = oscillator ? 2e-4 : 1e-3;
+    const auto hs = halving_sequence(h_max, h_min);
+    if (!oscillator) return generic_work_precision(cli, sysopt, names, hs, reps);
     // The paper's oscillator: alpha 0.01, 0.1, 1 unless given; its first-order schemes and the second-order
     // comparators under the paper's names.
     require(names.empty(), "work_precision on the oscillator compares the paper's schemes (drop --schemes)");
@@ -188,9 +198,16 @@ int main(int argc, char** argv) {
     require(sysopt.swept().empty() || sysopt.swept() == std::vector<std::string>{"alpha"},
             "work_precision on the oscillator sweeps alpha only");
     for (double a : alphas) sysopt.system().validate(scene(a));
+    // every h: five schemes and RK4, each run once for its error (the closed form as reference) and reps + 1 times
+    // timed; the adaptive baselines' steps are not known before they run (a few thousand per tolerance here)
+    for (double h : hs) {
+      const long N = step_count(h, T);
+      plan_steps(6.0 * static_cast<double>(alphas.size()) * (reps + 2) * static_cast<double>(N),
+                 "the sweep (alpha x methods x (reps + 2) x T/h)");
+      check_reference_memory(sysopt.system(), ReferenceKind::exact, N);
+    }
     const auto dir = prepare_output_dir(cli.out);
 
-    const auto hs = halving_sequence(0.2, 2e-4);
     const std::vector<double> tols{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
     std::vector<Point> pts;
     for (double a : alphas) {
@@ -269,13 +286,15 @@ int main(int argc, char** argv) {
 
 // Any other system: every scheme built from it over h, Odeint baselines on its AD-derived equations.
 int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const std::vector<std::string>& names,
-                           double h_max, double h_min, int reps) {
+                           const std::vector<double>& hs, int reps) {
   const SystemInfo& sys = sysopt.system();
   const ParamValues pv = sysopt.values();
   const auto schemes = sysopt.schemes(names);
   const double Tsys = sys.horizon(pv);
-  const auto hs = halving_sequence(h_max, h_min);
-  for (double h : hs) step_count(h, Tsys);
+  for (double h : hs)
+    plan_steps(static_cast<double>(schemes.size()) * (reps + 2) * static_cast<double>(step_count(h, Tsys)),
+               "the sweep (schemes x (reps + 2) x T/h)");
+  check_reference_memory(sys, ReferenceKind::automatic, step_count(hs.back(), Tsys));
   const std::vector<double> tols{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   const auto dir = prepare_output_dir(cli.out);
   const double h_ref = hs.back();

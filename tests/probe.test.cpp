@@ -487,6 +487,47 @@ TEST_CASE("probe: degenerate data (a zero state) gives figures, not gnuplot erro
 TEST_CASE("probe: a run whose stored trajectory cannot fit in memory is refused before it starts", "[probe]") {
   // 1e10 steps, the reference at h/10 stored as (t, q, p): 2.4 TB, beyond MemAvailable (and within the step limit)
   check_refused("fig1_oscillator", {"--h", "1e-3", "--T", "1e7", "--ref-factor", "10"}, "MB of memory available");
+  // the registry's reference (closed form or Odeint) on 1e10 times: 80 GB and more, whatever the study
+  check_refused("regularized_error", {"--system", "forced-oscillator", "--alpha", "0.1", "--h", "0.1", "--T", "1e9"},
+                "lower --T or raise --h");
+  check_refused("convergence", {"--system", "pendulum", "--h-max", "0.1", "--h-min", "0.1", "--T", "1e9"},
+                "lower --T or raise --h");
+}
+
+TEST_CASE("probe: a refusal that comes after the output folder was made leaves no folder behind", "[probe]") {
+  // refused only once the run's folder exists (the values overflow inside the computation, or T/h is checked late):
+  // the folders the run created, nested ones included, are removed again; a folder that was there stays
+  const std::vector<std::pair<std::string, std::vector<std::string>>> late{
+      {"stability_oscillator", {"--alpha-max", "1e308"}},
+      {"stability_oscillator", {"--alpha-min", "1e-320"}},
+      {"fig1_oscillator", {"--T", "4e-320", "--h", "4e-320"}}};
+  for (const auto& [program, args] : late) {
+    const auto base = fresh_dir("probe-late");
+    const auto out = base / "a" / "b" / "out";
+    const auto o = spawn(program, plus(args, {"--out", out.string()}), base);
+    INFO(program << " " << Catch::Detail::stringify(args) << " -> exit " << o.exit_code << ": " << o.err);
+    CHECK(o.exit_code == 2);
+    CHECK(o.lines() == 1);
+    CHECK(!fs::exists(base / "a"));
+    fs::create_directories(out);  // an existing folder is the user's: it stays, empty as it was
+    const auto again = spawn(program, plus(args, {"--out", out.string()}), base);
+    CHECK(again.exit_code == 2);
+    CHECK(fs::is_directory(out));
+    CHECK(fs::is_empty(out));
+    fs::remove_all(base);
+  }
+}
+
+TEST_CASE("probe: the budget counts every run a program plans, and timed loops by their length", "[probe]") {
+  // 2 systems x 2 schemes x 3 orders runs of T/h for each of 3 step sizes: 4.2e11 steps (the plan counted 3.5e10)
+  check_refused("nonholonomic_modified", {"--T", "1e9"}, "exceed the time budget");
+  // steps weighted by what they cost: a modified equation's Odeint solution is 1e4 cheap steps and more, so these
+  // (accepted before, hours to days of work) are refused
+  check_refused("nonholonomic_modified", {"--T", "1e4"}, "weighted by their cost");
+  check_refused("modified_agreement", {"--T", "1e7"}, "weighted by their cost");
+  check_refused("backward_error", {"--T", "1e6"}, "weighted by their cost");
+  // 10 s x 101 loops per cell: days by construction
+  check_refused("modified_cost", {"--seconds", "10", "--reps", "100"}, "exceed the time budget");
 }
 
 TEST_CASE("probe: a signal ignored when the program starts (nohup) stays ignored", "[probe]") {

@@ -54,8 +54,10 @@ TEST_CASE("programs reject bad input with one line, exit 2, and write nothing", 
 }
 
 TEST_CASE("bench_steps rejects bad input with one line, exit 2, and answers --help", "[programs][bench]") {
-  check_rejected("bench_steps", "--steps 10", "steps must be at least");
-  check_rejected("bench_steps", "--reps 1", "reps must be at least");
+  check_rejected("bench_steps", "--steps 10", "steps must be in [1000, 1e8]");
+  check_rejected("bench_steps", "--steps 1000000000000000", "steps must be in [1000, 1e8]");
+  check_rejected("bench_steps", "--reps 1", "reps must be in [3, 1000]");
+  check_rejected("bench_steps", "--reps 2147483647", "reps must be in [3, 1000]");
   CHECK(run_program("bench_steps", "--help").exit_code == 0);
 }
 

@@ -31,11 +31,12 @@ void check_steps(double steps, const std::string& what) {
           what + ": " + count(steps) + " steps exceed the limit of " + count(max_steps_per_run) + " steps per run");
 }
 
-void plan_steps(double steps, const std::string& what) {
-  g_planned += steps;
+void plan_steps(double steps, const std::string& what, double cost) {
+  g_planned += steps * cost;
   if (g_budget)
-    require(g_planned <= step_budget, what + ": " + count(g_planned) + " steps in all exceed the time budget of " +
-                                          count(step_budget) + " steps (--no-budget to run it anyway)");
+    require(g_planned <= step_budget,
+            what + ": " + count(g_planned) + (cost == 1 ? " steps" : " steps (weighted by their cost)") +
+                " in all exceed the time budget of " + count(step_budget) + " steps (--no-budget to run it anyway)");
 }
 
 double available_memory() {
@@ -49,6 +50,14 @@ double available_memory() {
       return kb >= 0 ? kb * 1024 : -1;
     }
   return -1;
+}
+
+void plan_seconds(double seconds, const std::string& what) {
+  static double planned = 0;
+  planned += seconds;
+  if (g_budget)
+    require(planned <= seconds_budget, what + ": " + count(planned) + " s in all exceed the time budget of " +
+                                           count(seconds_budget) + " s (--no-budget to run it anyway)");
 }
 
 void check_memory(double bytes, const std::string& what) {

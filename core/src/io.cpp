@@ -9,6 +9,7 @@
 #include <system_error>
 #include <unistd.h>
 
+#include "created_folders.hpp"
 #include "geomint/error.hpp"
 #include "geomint/sweep.hpp"
 
@@ -55,10 +56,12 @@ fs::path prepare_output_dir(const std::string& dir, OtherRanks others) {
   if (rank == 0) try {
       require(!dir.empty(), "output folder must not be empty");
       std::error_code ec;
+      detail::note_created_folders(fs::path(dir), detail::first_missing_folder(fs::path(dir)));
       fs::create_directories(dir, ec);
       require(!ec && fs::is_directory(dir), "cannot create output folder '" + dir + "'" + (ec ? ": " + ec.message() : ""));
       OutputRun::start(fs::path(dir));
     } catch (const std::exception& e) {
+      detail::remove_created_folders();  // a folder that cannot be a run's is not left behind
       failure = e.what();
       if (failure.empty()) failure = "cannot prepare output folder '" + dir + "'";
     }

@@ -18,6 +18,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "created_folders.hpp"
 #include "geomint/error.hpp"
 #include "geomint/record.hpp"
 #include "geomint/sweep.hpp"
@@ -555,6 +556,7 @@ void OutputRun::discard() {
   std::error_code ec;
   if (fs::exists(fs::symlink_status(staging_, ec))) fs::remove_all(staging_, ec);
   end();
+  detail::remove_created_folders();
 }
 
 void OutputRun::commit() {
@@ -584,6 +586,7 @@ void OutputRun::commit() {
       if (!undo.empty()) {  // the old files are still in the staging folder: keep it, the next run rolls back
         g_state = no_run;
         end();
+        detail::keep_created_folders();
         throw std::runtime_error(failure + "; " + undo + " (the next run into this folder puts the previous outputs back)");
       }
     }
@@ -592,10 +595,49 @@ void OutputRun::commit() {
     g_state = committed_run;
     remove_flat_dir(target_fd_, staging_name_.c_str(), stage_fd_);
     end();
+    detail::keep_created_folders();
     return;
   }
   discard();
   throw std::runtime_error(failure + " (the previous outputs are unchanged)");
 }
+
+namespace detail {
+
+namespace {
+std::filesystem::path g_created_target, g_created_outermost;
+}  // namespace
+
+std::filesystem::path first_missing_folder(const std::filesystem::path& target) {
+  std::filesystem::path outermost;
+  std::error_code ec;
+  for (std::filesystem::path p = target; !p.empty() && !std::filesystem::exists(std::filesystem::symlink_status(p, ec));
+       p = p.parent_path()) {
+    outermost = p;
+    if (p == p.parent_path()) break;
+  }
+  return outermost;
+}
+
+void note_created_folders(const std::filesystem::path& target, const std::filesystem::path& outermost) {
+  g_created_target = target;
+  g_created_outermost = outermost;
+}
+
+void remove_created_folders() {
+  if (!g_created_outermost.empty())
+    for (std::filesystem::path p = g_created_target; !p.empty(); p = p.parent_path()) {
+      if (::rmdir(p.c_str()) != 0) break;  // not empty (or not ours to remove): it and its parents stay
+      if (p == g_created_outermost || p == p.parent_path()) break;
+    }
+  keep_created_folders();
+}
+
+void keep_created_folders() {
+  g_created_target.clear();
+  g_created_outermost.clear();
+}
+
+}  // namespace detail
 
 }  // namespace geomint

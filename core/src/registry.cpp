@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geomint/budget.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/io.hpp"
@@ -125,6 +126,15 @@ void check_reference(const SystemInfo& sys, ReferenceKind kind, double tol) {
     require(sys.has_rhs, "system '" + sys.name + "' has no hand-written rhs (use --reference odeint)");
   if (kind == ReferenceKind::odeint || kind == ReferenceKind::odeint_rhs || (kind == ReferenceKind::automatic && !sys.has_exact))
     require(std::isfinite(tol) && tol >= 1e-15 && tol < 1, "tol must be in [1e-15, 1), got " + show(tol));
+}
+
+void check_reference_memory(int dof, bool exact, long N) {
+  const double per_time = sizeof(double) * (exact ? dof : 1 + 3 * dof);
+  check_memory(double(N + 1) * per_time, "the reference (" + show(double(N + 1)) + " times; lower --T or raise --h)");
+}
+
+void check_reference_memory(const SystemInfo& sys, ReferenceKind kind, long N) {
+  check_reference_memory(sys.dof, kind == ReferenceKind::exact || (kind == ReferenceKind::automatic && sys.has_exact), N);
 }
 
 long Reference::index(long j, double h_coarse) const {

@@ -123,6 +123,7 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
                                    ReferenceKind kind, double tol, const Sweep& sweep) {
   require(!hs.empty() && !schemes.empty() && !combos.empty(), "a convergence study needs h, schemes and parameters");
   check_reference(sys, kind, tol);
+  for (const auto& pv : combos) check_reference_memory(sys, kind, step_count(hs.back(), sys.horizon(pv)));
   // Every (combination, scheme, h) run is an item of the sweep (cost ~ 1/h); a rank computes the reference of a
   // combination when it first needs it.
   const std::size_t S = schemes.size(), H = hs.size(), n_items = combos.size() * S * H;

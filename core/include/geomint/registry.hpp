@@ -149,6 +149,10 @@ struct SystemInfo {
 
 // Refuses a reference the system cannot give (or a tolerance out of range) before any work starts.
 void check_reference(const SystemInfo& sys, ReferenceKind kind, double tol);
+// Refuses a reference on N + 1 times that would not fit in the memory available (its positions, and for Odeint
+// also the times and the states it returns): before the folder is made, and again where it is built.
+void check_reference_memory(int dof, bool exact, long N);
+void check_reference_memory(const SystemInfo& sys, ReferenceKind kind, long N);
 
 const std::vector<SystemInfo>& all_systems();
 const SystemInfo& find_system(const std::string& name);  // InputError naming the known ones

@@ -365,12 +365,13 @@ template <class Sys>
 Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, double tol) {
   constexpr int n = Sys::dof;
   require(N >= 1, "reference needs at least one step");
+  if (kind == ReferenceKind::automatic) kind = has_exact_v<Sys> ? ReferenceKind::exact : ReferenceKind::odeint;
+  check_reference_memory(n, kind == ReferenceKind::exact, N);
   Reference ref;
   ref.h = h;
   ref.N = N;
   ref.n = n;
   ref.q.resize(static_cast<std::size_t>((N + 1) * n));
-  if (kind == ReferenceKind::automatic) kind = has_exact_v<Sys> ? ReferenceKind::exact : ReferenceKind::odeint;
   if (kind == ReferenceKind::exact) {
     if constexpr (has_exact_v<Sys>) {
       ref.kind = "closed form";
