@@ -28,6 +28,7 @@ convergence --system forced-oscillator --alpha 0.01 0.1 1 2
 convergence --system knife-edge
 integrate --system knife-edge --scheme la
 integrate --system knife-edge --scheme contact-trapezoid
+ensemble --system knife-edge --scheme la --runs 2000
 work_precision --system pendulum
 stability_oscillator --system coupled-oscillators --n 60
 long_horizon_oscillator

@@ -146,7 +146,8 @@ TEST_CASE("sweep programs under mpiexec -n 2 write byte-identical files", "[swee
                         Case{"stability_oscillator", "--n 24", 2},
                         Case{"stability_oscillator", "--system coupled-oscillators --n 8", 1},
                         Case{"convergence", "--system pendulum --alpha 0.1 0.2 --h-min 0.02", 2},
-                        Case{"modified_agreement", "--systems pendulum --schemes la contact --orders 0 1 --T 1", 2}}) {
+                        Case{"modified_agreement", "--systems pendulum --schemes la contact --orders 0 1 --T 1", 2},
+                        Case{"ensemble", "--system knife-edge --runs 30 --T 5 --threads 1", 2}}) {
     const std::string tag = std::string(c.program) + "-" + std::to_string(std::strlen(c.args));  // one folder per case
     const auto one = dir / (tag + "-1"), two = dir / (tag + "-2");
     REQUIRE(run_program(c.program, std::string(c.args) + " --out " + one.string()).exit_code == 0);
