@@ -381,6 +381,13 @@ TEST_CASE("probe: every terminating signal mid-run leaves the old outputs and no
       CHECK(temporaries(out).empty());
       CHECK(snapshot(out) == before);
     }
+    // a first run into folders it made itself, interrupted, leaves none of them
+    const auto made = base / "new" / "a" / "b";
+    const auto o = interrupted(c.program, plus(split(c.ok), {"--out", made.string(), "--no-budget"}), base, SIGINT);
+    INFO(c.program << " into new folders, SIGINT -> exit " << o.exit_code << ": " << o.err);
+    CHECK(o.stopped);
+    CHECK(o.exit_code == 128 + SIGINT);
+    CHECK(!fs::exists(base / "new"));
     fs::remove_all(base);
   }
 }

@@ -49,6 +49,12 @@ char g_stage_name[64];
 constexpr int max_helpers = 64;
 volatile pid_t g_helpers[max_helpers];
 sigset_t g_interrupts;  // the signals handle_interrupts() took over
+// The folders this run created for its --out (created_folders.hpp), for the handler: the absolute target path and
+// the length of its outermost created prefix. g_created_len is 0 while there are none (or the path is too long to
+// keep here; then only the ordinary exit paths remove them).
+char g_created_path[4096];
+volatile std::sig_atomic_t g_created_len = 0;
+volatile std::sig_atomic_t g_created_outer = 0;
 
 // Removes the flat folder `dir_fd` (named `name` in `parent_fd`) with system calls only (openat, getdents64,
 // unlinkat): callable from the signal handler. A thread may still add files meanwhile: a few attempts.
@@ -112,6 +118,15 @@ extern "C" void geomint_on_interrupt(int sig) {
   const int state = g_state;
   if (state == staging_run) remove_flat_dir(g_target_fd, g_stage_name, g_stage_fd);
   if (g_locked) ::unlinkat(g_target_fd, lock_name, 0);
+  if (state != committed_run) {  // folders made for this run, now empty: innermost first, rmdir(2) only
+    const std::size_t outer = static_cast<std::size_t>(g_created_outer);
+    for (std::size_t len = static_cast<std::size_t>(g_created_len); len >= outer && len > 0;) {
+      g_created_path[len] = 0;
+      if (::rmdir(g_created_path) != 0 || len == outer) break;
+      while (len > 0 && g_created_path[len - 1] != '/') --len;  // the parent: cut the last name and its '/'
+      if (len > 0) --len;
+    }
+  }
   // One line with write(2) only: "<program>: interrupted by signal N (SIGxxx); <what became of the outputs>".
   char line[320];
   std::size_t n = 0;
@@ -622,6 +637,23 @@ std::filesystem::path first_missing_folder(const std::filesystem::path& target) 
 void note_created_folders(const std::filesystem::path& target, const std::filesystem::path& outermost) {
   g_created_target = target;
   g_created_outermost = outermost;
+  g_created_len = 0;
+  if (outermost.empty()) return;
+  // the same as absolute paths without a trailing '/', for the interrupt handler
+  std::error_code ec;
+  auto plain = [&](const std::filesystem::path& p) {
+    std::string t = std::filesystem::absolute(p, ec).lexically_normal().string();
+    while (t.size() > 1 && t.back() == '/') t.pop_back();
+    return t;
+  };
+  const std::string t = plain(target), o = plain(outermost);
+  if (ec || t.size() >= sizeof g_created_path || o.empty() || t.compare(0, o.size(), o) != 0 ||
+      (t.size() > o.size() && t[o.size()] != '/'))
+    return;
+  std::memcpy(g_created_path, t.data(), t.size());
+  g_created_path[t.size()] = 0;
+  g_created_outer = static_cast<std::sig_atomic_t>(o.size());
+  g_created_len = static_cast<std::sig_atomic_t>(t.size());
 }
 
 void remove_created_folders() {
@@ -634,6 +666,7 @@ void remove_created_folders() {
 }
 
 void keep_created_folders() {
+  g_created_len = 0;
   g_created_target.clear();
   g_created_outermost.clear();
 }
