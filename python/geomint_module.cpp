@@ -16,7 +16,10 @@
 #include <vector>
 
 #include "geomint/error.hpp"
+#include "geomint/budget.hpp"
 #include "geomint/formula/description.hpp"
+#include "geomint/generic_ensemble.hpp"
+#include "geomint/parallel.hpp"
 #include "geomint/formula/formula_registry.hpp"
 #include "geomint/formula/model.hpp"
 #include "geomint/io.hpp"
@@ -120,6 +123,61 @@ py::dict run_dict(const Run& run) {
   d["steps"] = run.steps;
   d["newton_mean"] = run.newton_mean;
   d["max_phi_d"] = run.max_phi_d;
+  return d;
+}
+
+// Many runs from perturbed parameters (generic_ensemble.hpp): run k's perturbed values, its state at T (NaN where
+// it failed) and its failure message ("" where it reached T). Run k has the bits of integrate() from those values.
+py::dict ensemble(const System& s, const std::string& scheme, const py::dict& perturb, long runs, double h,
+                  const py::dict& params, const std::string& path, unsigned long long seed, unsigned threads) {
+  const SystemInfo& sys = s.info();
+  EnsembleSpec spec;
+  spec.base = param_values(params);
+  for (const auto& [name, spread] : param_values(perturb)) spec.perturb.push_back({name, spread});
+  spec.scheme = sys.scheme(scheme).name;
+  spec.h = h;
+  spec.path = parse_path(path);
+  spec.runs = runs;
+  spec.seed = seed;
+  require(threads <= 256, "threads must be in [0, 256] (0: every core)");
+  validate_ensemble(sys, spec);
+  check_memory(static_cast<double>(runs) * ensemble_run_bytes(sys.dof, spec.perturb.size()),
+               "the ensemble's " + std::to_string(runs) + " runs (lower runs)");
+  std::vector<EnsembleRun> out;
+  {
+    py::gil_scoped_release release;
+    out = run_ensemble(sys, spec, 0, runs, threads == 0 ? default_threads() : threads);
+  }
+  const long n = sys.dof, P = static_cast<long>(spec.perturb.size());
+  const double nan = std::nan("");
+  std::vector<double> values, q, v, z, e0, e, phi_d, newton;
+  std::vector<std::string> failure, names;
+  for (const auto& p : spec.perturb) names.push_back(p.name);
+  for (const auto& r : out) {
+    values.insert(values.end(), r.values.begin(), r.values.end());
+    for (long i = 0; i < n; ++i) {
+      q.push_back(r.ok() ? r.q[static_cast<std::size_t>(i)] : nan);
+      v.push_back(r.ok() ? r.v[static_cast<std::size_t>(i)] : nan);
+    }
+    z.push_back(r.ok() ? r.z : nan);
+    e0.push_back(r.ok() ? r.energy0 : nan);
+    e.push_back(r.ok() ? r.energy : nan);
+    phi_d.push_back(r.ok() ? r.max_phi_d : nan);
+    newton.push_back(r.ok() ? r.newton_mean : nan);
+    failure.push_back(r.failure);
+  }
+  py::dict d;
+  d["perturbed"] = names;
+  d["values"] = to_array(values, runs, P);
+  d["q"] = to_array(q, runs, n);
+  d["v"] = to_array(v, runs, n);
+  d["z"] = to_array(z, runs);
+  d["energy0"] = to_array(e0, runs);
+  d["energy"] = to_array(e, runs);
+  d["max_phi_d"] = to_array(phi_d, runs);
+  d["newton_mean"] = to_array(newton, runs);
+  d["failure"] = failure;
+  d["T"] = sys.horizon(spec.base);
   return d;
 }
 
@@ -511,6 +569,12 @@ PYBIND11_MODULE(_geomint, m) {
            py::arg("every") = 1,
            "N = T/h steps of `scheme`, every `every`-th kept: {j, t, q, p, v, z, lambda, energy, phi_d, phi, newton} "
            "as arrays (q, p, v: rows x n; lambda: rows x m), and steps, newton_mean, max_phi_d")
+      .def("ensemble", &ensemble, py::arg("scheme"), py::arg("perturb"), py::arg("runs") = 1000, py::arg("h") = 0.1,
+           py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("seed") = 1, py::arg("threads") = 0,
+           "runs from perturbed parameters, perturb = {name: spread} (run k: p + spread u, u uniform in [-1, 1) from "
+           "(seed, k)), on `threads` threads (0: every core): {perturbed, values (runs x P), q, v (runs x n), z, "
+           "energy0, energy, max_phi_d, newton_mean (NaN where a run failed), failure (messages, '' where it reached "
+           "T), T}; run k has the bits of integrate() from its values")
       .def("reference", &reference, py::arg("h"), py::arg("N") = 0, py::arg("kind") = "auto", py::arg("tol") = 1e-13,
            py::arg("params") = py::dict(), "the reference solution on t_j = j h (closed form, or Boost.Odeint)")
       .def("convergence", &convergence, py::arg("schemes") = std::vector<std::string>{}, py::arg("h_max") = 0.1,

@@ -155,6 +155,54 @@ def test_work_precision_errors_are_the_convergence_errors():
 
 
 # ---------------------------------------------------------------------------------------------------------
+# ensembles: the program's table, and the bits of each run alone
+
+
+def test_ensemble_is_the_program(tmp_path):
+    program("ensemble", "--system", "knife-edge", "--runs", 20, "--T", 5, "--path", "generic", "--perturb",
+            "theta0=0.01", "u0=0.01", out=tmp_path)
+    table = geomint.read_tsv(tmp_path / "ensemble_knife-edge_la_runs.tsv")
+    e = geomint.system("knife-edge").ensemble("la", {"theta0": 0.01, "u0": 0.01}, runs=20, params={"T": 5},
+                                              path="generic")
+    assert e["perturbed"] == ["theta0", "u0"]
+    same_text(e["values"][:, 0], table["theta0"])
+    for i in range(3):
+        same_text(e["q"][:, i], table["q%d" % (i + 1)])
+    same_text(e["energy"], table["energy"])
+    assert all(f == "" for f in e["failure"])
+
+
+def test_an_ensemble_of_a_defined_system_runs_as_each_run_alone():
+    sys = duffing()
+    e = sys.ensemble("yoshida4:la-midpoint", {"alpha": 0.05, "b": 0.1}, runs=6, threads=2)
+    one_thread = sys.ensemble("yoshida4:la-midpoint", {"alpha": 0.05, "b": 0.1}, runs=6, threads=1)
+    np.testing.assert_array_equal(e["q"], one_thread["q"])
+    for k in range(6):
+        alpha, b = e["values"][k]
+        assert abs(alpha - 0.2) <= 0.05 and abs(b - 0.5) <= 0.1
+        alone = sys.integrate("yoshida4:la-midpoint", h=0.1, params={"alpha": alpha, "b": b})
+        np.testing.assert_array_equal(alone["q"][-1], e["q"][k])
+        np.testing.assert_array_equal(alone["v"][-1], e["v"][k])
+    # and the runs differ: the perturbation reached them
+    assert len(set(e["q"][:, 0])) == 6
+
+
+def test_an_ensemble_records_failed_runs_and_refuses_bad_perturbations():
+    # the contact scheme on the oscillator overflows within 500 steps once alpha > 51.3 at h = 0.1
+    # (tests/generic_ensemble.test.cpp): alpha in [30, 60)
+    e = geomint.system("oscillator").ensemble("contact", {"alpha": 15}, runs=40, params={"alpha": 45})
+    alpha = e["values"][:, 0]
+    failed = np.array([f != "" for f in e["failure"]])
+    assert np.all(failed[alpha > 56]) and not np.any(failed[alpha < 48])
+    assert np.all(np.isnan(e["q"][failed])) and np.all(np.isfinite(e["q"][~failed]))
+    assert all("numerical failure at step" in f for f in np.array(e["failure"])[failed])
+    with pytest.raises(geomint.InputError, match="has no parameter 'mass'"):
+        geomint.system("knife-edge").ensemble("la", {"mass": 1})
+    with pytest.raises(geomint.InputError, match="T is the horizon"):
+        geomint.system("knife-edge").ensemble("la", {"T": 1})
+
+
+# ---------------------------------------------------------------------------------------------------------
 # modified equations: the program's coefficients, and the formulas
 
 
