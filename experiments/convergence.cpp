@@ -18,6 +18,7 @@
 #include "geomint/study.hpp"
 #include "geomint/sweep.hpp"
 #include "geomint/system_cli.hpp"
+#include "geomint/step_cost.hpp"
 #include "text_columns.hpp"
 
 using namespace geomint;
@@ -45,10 +46,12 @@ int main(int argc, char** argv) {
     const ReferenceKind ref_kind = parse_reference(ref_name);
     check_reference(sys, ref_kind, tol);
     const auto hs = halving_sequence(h_max, h_min);
+    double cost = 0;  // of one step of every scheme, in cheap steps
+    for (const auto& s : schemes) cost += step_cost(sys, s, path);
     for (const auto& pv : combos)
       for (double h : hs)
-        plan_steps(static_cast<double>(step_count(h, sys.horizon(pv))) * static_cast<double>(schemes.size()),
-                   "the sweep (combinations x schemes x T/h)");
+        plan_steps(static_cast<double>(step_count(h, sys.horizon(pv))), "the sweep (combinations x schemes x T/h)",
+                   cost);
     for (const auto& pv : combos) check_reference_memory(sys, ref_kind, step_count(hs.back(), sys.horizon(pv)));
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const std::string stem = sys.name + "_convergence";

@@ -25,6 +25,7 @@
 #include "geomint/record.hpp"
 #include "geomint/sweep.hpp"
 #include "geomint/system_cli.hpp"
+#include "geomint/step_cost.hpp"
 
 using namespace geomint;
 
@@ -69,9 +70,8 @@ int main(int argc, char** argv) {
     const double T = sys.horizon(spec.base);
     const long N = step_count(h, T);
     const bool closed_form = spec.path == Path::fast && !sc.fast_path.empty();
-    // A closed-form step is the budget's cheap step; a generic Newton step of a small system costs about 20 of
-    // them in a study's regime (bench_generic, "runs of T": knife edge la 682 ns against 36 ns).
-    plan_steps(static_cast<double>(runs) * static_cast<double>(N), "the ensemble (runs x T/h)", closed_form ? 1 : 20);
+    plan_steps(static_cast<double>(runs) * static_cast<double>(N), "the ensemble (runs x T/h)",
+               step_cost(sys, spec.scheme, spec.path));
     check_memory(static_cast<double>(runs) * ensemble_run_bytes(sys.dof, spec.perturb.size()),
                  "the ensemble's " + std::to_string(runs) + " runs (lower --runs)");
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);

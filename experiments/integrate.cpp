@@ -7,11 +7,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/system_cli.hpp"
+#include "geomint/step_cost.hpp"
 
 using namespace geomint;
 
@@ -36,6 +38,7 @@ int main(int argc, char** argv) {
     require(every >= 1, "every must be a positive integer, got " + std::to_string(every));
     const double T = sys.horizon(pv);
     const long N = step_count(h, T);
+    plan_steps(static_cast<double>(N), "the run (T/h)", step_cost(sys, sc.name, path));
     require(N / every <= 2000000, "the table would have " + std::to_string(N / every) +
                                       " rows (limit 2e6): raise --every");
     const auto dir = prepare_output_dir(cli.out);

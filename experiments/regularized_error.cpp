@@ -13,6 +13,7 @@
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/system_cli.hpp"
+#include "geomint/step_cost.hpp"
 
 using namespace geomint;
 
@@ -37,9 +38,11 @@ int main(int argc, char** argv) {
     const auto schemes = sysopt.schemes(names);
     const Path path = parse_path(path_name);
     for (const auto& pv : combos) check_reference_memory(sys, ReferenceKind::exact, step_count(h, sys.horizon(pv)));
+    double cost = 1;  // of one step of the closed-form reference and of every scheme, in cheap steps
+    for (const auto& s : schemes) cost += step_cost(sys, s, path);
     for (const auto& pv : combos)
-      plan_steps(static_cast<double>(schemes.size() + 1) * static_cast<double>(step_count(h, sys.horizon(pv))),
-                 "the sweep (schemes and the reference x T/h per parameter set)");
+      plan_steps(static_cast<double>(step_count(h, sys.horizon(pv))),
+                 "the sweep (schemes and the reference x T/h per parameter set)", cost);
     const auto dir = prepare_output_dir(cli.out);
     const std::string stem = sys.name + "_regularized_error";
 

@@ -32,6 +32,7 @@
 #include "geomint/study.hpp"
 #include "geomint/timing.hpp"
 #include "geomint/work_precision.hpp"
+#include "geomint/step_cost.hpp"
 
 using namespace geomint;
 namespace odeint = boost::numeric::odeint;
@@ -291,9 +292,10 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
   const ParamValues pv = sysopt.values();
   const auto schemes = sysopt.schemes(names);
   const double Tsys = sys.horizon(pv);
+  double cost = 0;  // of one step of every scheme, in cheap steps
+  for (const auto& s : schemes) cost += step_cost(sys, s, Path::fast);
   for (double h : hs)
-    plan_steps(static_cast<double>(schemes.size()) * (reps + 2) * static_cast<double>(step_count(h, Tsys)),
-               "the sweep (schemes x (reps + 2) x T/h)");
+    plan_steps((reps + 2) * static_cast<double>(step_count(h, Tsys)), "the sweep (schemes x (reps + 2) x T/h)", cost);
   check_reference_memory(sys, ReferenceKind::automatic, step_count(hs.back(), Tsys));
   const std::vector<double> tols{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   const auto dir = prepare_output_dir(cli.out);

@@ -535,6 +535,13 @@ TEST_CASE("probe: the budget counts every run a program plans, and timed loops b
   check_refused("backward_error", {"--T", "1e6"}, "weighted by their cost");
   // 10 s x 101 loops per cell: days by construction
   check_refused("modified_cost", {"--seconds", "10", "--reps", "100"}, "exceed the time budget");
+  // generic Newton steps cost 20 cheap steps, a composition's its stages' (step_cost.hpp): 1e10 generic steps (a
+  // run of 2.5 h on the pendulum), 6e9 steps of a 17-stage composition and 2e10 ensemble steps, all accepted
+  // before as under 1e11 steps, are refused
+  check_refused("integrate", {"--T", "1e9", "--h", "0.1"}, "weighted by their cost");
+  check_refused("convergence", {"--system", "pendulum", "--schemes", "kahanli8:la-midpoint", "--T", "2e7", "--h-min", "0.01"},
+                "weighted by their cost");
+  check_refused("ensemble", {"--runs", "100000", "--T", "2e4"}, "weighted by their cost");
 }
 
 TEST_CASE("probe: a signal ignored when the program starts (nohup) stays ignored", "[probe]") {

@@ -148,3 +148,19 @@ long Reference::index(long j, double h_coarse) const {
 }
 
 }  // namespace geomint
+
+#include "geomint/step_cost.hpp"
+
+namespace geomint {
+
+double step_cost(const SystemInfo& sys, const std::string& scheme, Path path) {
+  const SchemeInfo& sc = sys.scheme(scheme);
+  if (!sc.generic) return 1.0;  // declared by the system: its closed form, whatever the path
+  if (!sc.base.empty()) {  // "<family>:<base>": its stages, each a generic step of the base
+    const auto family = sc.name.substr(0, sc.name.find(':'));
+    return generic_step_cost * generic::find_composition_family(family).stages();
+  }
+  return path == Path::fast && !sc.fast_path.empty() ? 1.0 : generic_step_cost;
+}
+
+}  // namespace geomint
