@@ -113,16 +113,17 @@ TEST_CASE("the contact action z of a composition converges at the family's order
 }
 
 TEST_CASE("a composition that fails names the system, the composition, the step and the stage", "[composition][failure]") {
-  // the knife edge at h = 0.4: the triple jump's middle stage (step -0.68, turning the blade by ~1.4 rad) starts
-  // Newton too far from its solution
+  // the Kepler orbit at 16 steps an orbit: the midpoint rule's third stage of Yoshida's 6A (step -0.46, from just
+  // past pericentre) has no solution Newton can reach: after 40 updates its row is still 0.13
   try {
-    find_system("knife-edge").run({{"T", 10}}, "yoshida4:la-trapezoid", 0.4, Path::generic, 1);
+    find_system("kepler").run({{"a", 0}, {"alpha", 1e-4}, {"T", 2 * M_PI}}, "yoshida6a:la-midpoint", 2 * M_PI / 16,
+                               Path::generic, 1);
     FAIL("no failure");
   } catch (const NumericalFailure& e) {
     const std::string what = e.what();
     INFO(what);
-    CHECK(what.find("system knife-edge, composition yoshida4:la-trapezoid, h = 0.4") != std::string::npos);
-    CHECK(what.find("stage 2 of 3 of yoshida4 (step -0.68") != std::string::npos);
+    CHECK(what.find("system kepler, composition yoshida6a:la-midpoint, h = 0.39") != std::string::npos);
+    CHECK(what.find("stage 3 of 7 of yoshida6a (step -0.46") != std::string::npos);
     CHECK(e.step >= 1);
   }
 }
