@@ -5,11 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <mutex>
 #include <stdexcept>
 #include <thread>
 
 #include "geomint/error.hpp"
+#include "geomint/parallel.hpp"
 #include "geomint/sweep.hpp"
 
 namespace geomint {
@@ -134,37 +134,36 @@ std::vector<EnsembleRun> run_ensemble(const SystemInfo& sys, const EnsembleSpec&
   const long N = step_count(spec.h, sys.horizon(spec.base));
   const std::size_t n = static_cast<std::size_t>(std::max(0L, last - first));
   std::vector<EnsembleRun> out(n);
-  std::atomic<std::size_t> next{0}, done{0};
-  std::atomic<bool> stop{false};
-  std::exception_ptr error;
-  std::mutex error_mutex;
+  std::atomic<std::size_t> done{0};
+  // a failure that is not numerical (those are data) stops every thread and is rethrown once (parallel_for)
   auto work = [&] {
-    for (std::size_t i; !stop.load(std::memory_order_relaxed) && (i = next.fetch_add(1)) < n;) {
-      try {
-        out[i] = one_run(sys, spec, first + static_cast<long>(i), N);
-      } catch (...) {  // not a numerical failure (those are data): stop every thread and rethrow once
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        stop = true;
-      }
+    parallel_for(n, threads, [&](std::size_t i) {
+      out[i] = one_run(sys, spec, first + static_cast<long>(i), N);
       done.fetch_add(1);
-    }
+    });
   };
-  threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(1, n))));
-  // With a progress callback the calling thread only reports; otherwise it is one of the workers.
-  std::vector<std::thread> pool;
-  for (unsigned t = report ? 0 : 1; t < threads; ++t) pool.emplace_back(work);
   if (!report) {
     work();
-  } else {
-    while (done.load() < n && !stop.load()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      if (done.load() < n) report(done.load(), n);
-    }
+    return out;
   }
-  for (auto& th : pool) th.join();
+  // with a progress callback the runs go on beside the calling thread, which only reports
+  std::exception_ptr error;
+  std::atomic<bool> finished{false};
+  std::thread runner([&] {
+    try {
+      work();
+    } catch (...) {
+      error = std::current_exception();
+    }
+    finished = true;
+  });
+  while (!finished.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (!finished.load()) report(done.load(), n);
+  }
+  runner.join();
   if (error) std::rethrow_exception(error);
-  if (report) report(n, n);
+  report(n, n);
   return out;
 }
 
