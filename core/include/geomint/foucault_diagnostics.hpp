@@ -2,6 +2,7 @@
 // Diagnostics of a Foucault pendulum run by the paper's closed forms, kept only as dense as the figures need:
 // energy (the chord energy), the imposed constraint's residual, the multiplier, the closest passes by the origin,
 // the plane of oscillation at every turning point and its fitted precession rate.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -70,9 +71,11 @@ class FoucaultDiagnostics {
     require(sample_every >= 1, "sample_every must be a positive integer");
     summary_.E0 = static_cast<double>(foucault_energy(p, q0, consistent_velocity(p, q0, v0)));
     summary_.min_r = static_cast<double>(q0.norm());
-    // Reserve once: turning points come twice per period 2 pi / sqrt(w2 - s^2); doubled for safety.
+    // Reserve once: turning points come twice per period 2 pi / sqrt(w2 - s^2); doubled for safety, and at most
+    // one a step (a period shorter than h, from an extreme Omega or g, would otherwise ask for any amount).
     const double period = 2 * foucault_pi / std::sqrt(std::abs(static_cast<double>(p.w2 - p.s * p.s)));
-    const auto turns_est = static_cast<std::size_t>(4 * N * static_cast<double>(h) / period) + 16;
+    const double per_period = std::min(4 * static_cast<double>(N) * static_cast<double>(h) / period, static_cast<double>(N));
+    const auto turns_est = static_cast<std::size_t>(std::isfinite(per_period) ? per_period : static_cast<double>(N)) + 16;
     turns.reserve(turns_est);
     samples.reserve(static_cast<std::size_t>(N / sample_every) + 2 + turns_est);
   }

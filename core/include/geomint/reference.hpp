@@ -2,6 +2,7 @@
 // High-accuracy reference solutions with Boost.Odeint: dense output of an adaptive Dormand–Prince
 // stepper, so every requested time t_j = j h is hit exactly (not by accumulating t += h).
 #include <array>
+#include <string>
 #include <vector>
 
 #include <boost/numeric/odeint.hpp>
@@ -9,6 +10,17 @@
 #include "geomint/error.hpp"
 
 namespace geomint {
+
+// An adaptive explicit reference takes a handful of steps between two output times on a nonstiff problem; a stiff
+// one (a damping of 1e15) would take about alpha T steps, for hours. Past this many it stops with a numerical failure.
+inline constexpr int odeint_max_steps_between_outputs = 1000000;
+
+[[noreturn]] inline void throw_too_stiff(const std::string& method, double t, std::size_t outputs) {
+  throw NumericalFailure(static_cast<long>(outputs), "reference",
+                         method + " took more than " + std::to_string(odeint_max_steps_between_outputs) +
+                             " steps between two output times after t = " + show(t) +
+                             ": the equations are too stiff for an explicit integrator at these parameters");
+}
 
 // Integrates x' = sys(x, t) from times.front() and returns the state at every entry of `times`.
 template <std::size_t N, class System>
@@ -21,8 +33,13 @@ std::vector<std::array<double, N>> odeint_dense(System sys, std::array<double, N
   out.reserve(times.size());
   auto stepper = odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>());
   const double dt0 = times.size() > 1 ? (times[1] - times[0]) / 10 : 1e-3;
-  odeint::integrate_times(stepper, sys, x0, times.begin(), times.end(), dt0,
-                          [&](const State& x, double) { out.push_back(x); });
+  try {
+    odeint::integrate_times(stepper, sys, x0, times.begin(), times.end(), dt0,
+                            [&](const State& x, double) { out.push_back(x); },
+                            odeint::max_step_checker(odeint_max_steps_between_outputs));
+  } catch (const odeint::no_progress_error&) {
+    throw_too_stiff("Boost.Odeint dopri5", out.empty() ? times.front() : times[out.size() - 1], out.size());
+  }
   return out;
 }
 

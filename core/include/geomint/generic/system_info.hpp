@@ -88,7 +88,13 @@ void drive(const Sys& sys, double h, long N, Path path, Observer&& observe) {
   using C = runner_of_t<Sys, X>;
   if constexpr (!std::is_void_v<C>) {
     if (effective_path<Sys, X>(path) == Path::fast) {
-      sys.template run_fast<C>(h, N, [&](const auto& view) { observe(view, -1); });
+      // A closed form has no Newton to fail: an overflow (a damping of 1e308) is caught here, where it happens,
+      // instead of reaching a table as nan.
+      sys.template run_fast<C>(h, N, [&](const auto& view) {
+        if (!view.q.allFinite() || !view.p.allFinite())
+          throw NumericalFailure(view.j, "state", "the closed form's q or p is not finite");
+        observe(view, -1);
+      });
       return;
     }
   }

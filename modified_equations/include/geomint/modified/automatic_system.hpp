@@ -112,8 +112,14 @@ std::vector<std::array<double, N>> flow_dense(System sys, std::array<double, N> 
   out.reserve(times.size());
   odeint::bulirsch_stoer_dense_out<State> stepper(tol, tol);
   const double dt0 = times.size() > 1 ? (times[1] - times[0]) : 1e-3;
-  odeint::integrate_times(stepper, sys, x0, times.begin(), times.end(), dt0,
-                          [&](const State& x, double) { out.push_back(x); });
+  try {
+    odeint::integrate_times(stepper, sys, x0, times.begin(), times.end(), dt0,
+                            [&](const State& x, double) { out.push_back(x); },
+                            odeint::max_step_checker(odeint_max_steps_between_outputs));
+  } catch (const odeint::no_progress_error&) {
+    throw_too_stiff("Boost.Odeint Bulirsch-Stoer (the modified equation)", out.empty() ? times.front() : times[out.size() - 1],
+                    out.size());
+  }
   return out;
 }
 
