@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
   return guarded_main("kepler_anchor", [&] {
     Cli cli("kepler_anchor", "the contact-integrator anchor's comparison on the perturbed Kepler problem");
     std::vector<std::string> setting_names, methods = kepler_anchor_methods();
-    double tau = std::nan(""), T = std::nan(""), tol = 1e-13;
+    double tau = 0, T = 0, tol = 1e-13;
+    bool tau_given = false, T_given = false;  // a given value is checked, whatever it is (nan included)
     int reps = 3;
     std::string all_names;
     for (const auto& s : kepler_anchor_settings()) all_names += (all_names.empty() ? "" : " ") + s.name;
@@ -33,8 +34,8 @@ int main(int argc, char** argv) {
         "methods", po::value(&methods)->multitoken(),
         "schemes of the kepler system, compositions <family>:<scheme>, or odeint-rk4 (default: contact-trapezoid "
         "yoshida6a:contact-trapezoid odeint-rk4 la-trapezoid yoshida6a:la-trapezoid)")(
-        "tau", po::value(&tau), "step size for every setting (default: each setting's own, 0.5 or 0.05)")(
-        "T", po::value(&T), "horizon for every setting (default: each setting's own)")(
+        "tau", po::value(&tau)->notifier([&](double) { tau_given = true; }), "step size for every setting (default: each setting's own, 0.5 or 0.05)")(
+        "T", po::value(&T)->notifier([&](double) { T_given = true; }), "horizon for every setting (default: each setting's own)")(
         "tol", po::value(&tol)->default_value(tol, "1e-13"), "tolerance of the Odeint reference")(
         "reps", po::value(&reps)->default_value(reps), "timing repetitions per run (0: no timings)");
     if (!cli.parse(argc, argv)) return 0;
@@ -49,18 +50,18 @@ int main(int argc, char** argv) {
       for (const auto& s : settings) known = known || s.name == n;
       require(known, "unknown setting '" + n + "' (known: " + all_names + ")");
     }
+    if (tau_given) require_positive(tau, "tau");
+    if (T_given) require_positive(T, "T");
     for (auto& s : settings) {
-      if (!std::isnan(tau)) {
-        require_positive(tau, "tau");
-        s.tau = tau;
-      }
-      if (!std::isnan(T)) {
-        require_positive(T, "T");
-        s.T = T;
-      }
+      if (tau_given) s.tau = tau;
+      if (T_given) s.T = T;
       // every run, the reference (twice) and the timings: the work before it starts
       const double steps = static_cast<double>(step_count(s.tau, s.T));
       plan_steps(steps * static_cast<double>(methods.size() + 2) * (1 + reps), "kepler_anchor " + s.name);
+      // held at once: the output times, the two references (4 numbers a time) and, per method, its trajectory
+      // (5) and the run it is read from (up to 13)
+      check_memory((steps + 1) * sizeof(double) * (9 + 18 * static_cast<double>(methods.size())),
+                   "kepler_anchor " + s.name + " (lower --T or raise --tau)");
     }
     const auto dir = prepare_output_dir(cli.out);
 

@@ -39,6 +39,14 @@ int main(int argc, char** argv) {
     require(reps >= 1 && reps <= 100, "reps must be in [1, 100]");
     for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
     for (const auto& s : systems) find_system(s);
+    // A scheme is skipped on a system it does not apply to, but a name no listed system knows is a typo.
+    std::vector<std::string> known;
+    for (const auto& s : systems)
+      for (const auto& name : find_modified_system(s).schemes)
+        if (std::find(known.begin(), known.end(), name) == known.end()) known.push_back(name);
+    for (const auto& x : schemes)
+      require(std::find(known.begin(), known.end(), x) != known.end(),
+              "unknown scheme '" + x + "' for the systems named (their schemes: " + join_names(known, ", ") + ")");
     // every cell is `reps` timed loops of at least `seconds` (and one untimed loop first)
     plan_seconds(static_cast<double>(systems.size() * schemes.size() * orders.size()) * (reps + 1) * seconds,
                  "the timed loops (systems x schemes x orders x (reps + 1) x --seconds)");

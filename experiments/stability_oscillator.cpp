@@ -31,7 +31,10 @@ int main(int argc, char** argv) {
     int n = 180;  // 180 x 180 per scheme: 4x the cells of the first version, in less time (binary heat maps)
     double h_min = 1e-2, h_max = 10, a_min = 1e-3, a_max = 10;
     std::vector<std::string> names{"la", "la-printed", "contact", "la-midpoint", "contact-sym", "leapfrog", "conformal-strang"};
-    Cli cli("stability_oscillator", "stability and fidelity maps of the oscillator schemes over (h, alpha)");
+    Cli cli("stability_oscillator",
+            "stability and fidelity maps of the oscillator schemes over (h, alpha).\n"
+            "On the oscillator (the default system) alpha is an axis and no other parameter enters a one-step map: the\n"
+            "maps take none of its parameters below. Another linear system (--system X) takes its own.");
     SystemOptions sysopt(cli, argc, argv, "oscillator", false);
     bool names_given = false;
     cli.options.add_options()("n", po::value(&n)->default_value(n), "grid points per axis (log-spaced)")(

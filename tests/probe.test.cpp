@@ -502,6 +502,78 @@ TEST_CASE("probe: a run whose stored trajectory cannot fit in memory is refused 
                 "lower --T or raise --h");
 }
 
+TEST_CASE("probe: an option left without its value, a name given twice and an unknown name are refused", "[probe]") {
+  // "--out --no-budget": --out would take the next option as its value (a folder named "--no-budget")
+  for (const auto& p : programs()) {
+    const auto base = fresh_dir("probe-novalue");
+    const auto o = spawn(p, {"--out", "--no-budget"}, base);
+    INFO(p << " -> exit " << o.exit_code << ": " << o.err);
+    CHECK(o.exit_code == 2);
+    CHECK(o.lines() == 1);
+    CHECK(o.err.find("has no value before the option '--no-budget'") != std::string::npos);
+    CHECK(fs::is_empty(base));
+    fs::remove_all(base);
+  }
+  // a list option followed by another option: before, modified_cost took "--out x" as two scheme names, skipped
+  // both as "not applicable" and wrote into ./out
+  check_refused("modified_cost", {"--systems", "pendulum", "--schemes", "--reps", "1"}, "has no value before the option '--reps'");
+  check_refused("modified_cost", {"--systems", "pendulum", "--schemes", "la", "abc"}, "unknown scheme 'abc'");
+  check_refused("fig1_oscillator", {"--schemes", "la", "la"}, "'la' is given twice to --schemes");
+  check_refused("modified_agreement", {"--systems", "pendulum", "pendulum"}, "'pendulum' is given twice to --systems");
+  // a nan given for an option whose default is "each setting's own" was taken as not given
+  check_refused("kepler_anchor", {"--settings", "anchor-1", "--tau", "nan"}, "tau must be a positive finite number");
+  check_refused("kepler_anchor", {"--settings", "anchor-1", "--T", "nan"}, "T must be a positive finite number");
+}
+
+TEST_CASE("probe: an output path with no room under PATH_MAX for its files, or a dangling link, is refused", "[probe]") {
+  const auto base = fresh_dir("probe-longpath");
+  // 3900 characters: the folder itself could be made, its staged files could not
+  fs::path deep = base;
+  while (deep.string().size() < 3900) deep /= std::string(200, 'd');
+  auto refused = [&](const fs::path& out, const std::string& expect) {
+    const auto o = spawn("integrate", {"--out", out.string()}, base);
+    INFO("integrate --out " << out.string().size() << " characters -> exit " << o.exit_code << ": " << o.err);
+    CHECK(o.exit_code == 2);
+    CHECK(o.lines() == 1);
+    CHECK(o.err.find(expect) != std::string::npos);
+  };
+  refused(deep, "characters long");
+  CHECK(!fs::exists(base / std::string(200, 'd')));
+  fs::create_symlink(base / "missing", base / "link");
+  refused(base / "link", "symbolic link to a missing target");
+  CHECK(!fs::exists(base / "missing"));
+  fs::remove_all(base);
+}
+
+TEST_CASE("probe: a stiff reference and an overflowing closed form are numerical failures, not hours or nan", "[probe]") {
+  // a damping of 1e15 on the pendulum: the Odeint reference would need ~1e16 explicit steps
+  const auto base = fresh_dir("probe-stiff");
+  const auto stiff = spawn("convergence", {"--system", "pendulum", "--h-max", "0.1", "--h-min", "0.05", "--alpha", "1e15",
+                                           "--out", (base / "a").string()}, base);
+  INFO("convergence --alpha 1e15 -> exit " << stiff.exit_code << ": " << stiff.err);
+  CHECK(stiff.exit_code == 3);
+  CHECK(stiff.err.find("too stiff for an explicit integrator") != std::string::npos);
+  CHECK(!fs::exists(base / "a"));
+  // a damping of 1e308 overflows the contact closed form of the oscillator at its second step: a numerical failure
+  // where it happens (before: a table of nan and exit 0)
+  const auto over = spawn("integrate", {"--system", "oscillator", "--scheme", "contact", "--alpha", "1e308", "--out",
+                                        (base / "b").string()}, base);
+  INFO("integrate --alpha 1e308 -> exit " << over.exit_code << ": " << over.err);
+  CHECK(over.exit_code == 3);
+  CHECK(over.err.find("not finite") != std::string::npos);
+  CHECK(!fs::exists(base / "b"));
+  // an Omega of 1e15 makes the period far shorter than h: the turning points' store was sized from the period
+  // (std::bad_alloc); it holds at most one a step, and the runs fail numerically, each on its line
+  const auto fast = spawn("fig2_foucault", {"--T", "10", "--h", "0.1", "--Omega", "1e15", "--out", (base / "c").string()}, base);
+  INFO("fig2_foucault --Omega 1e15 -> exit " << fast.exit_code << ": " << fast.err);
+  CHECK(fast.exit_code == 0);
+  CHECK(fast.err.find("bad_alloc") == std::string::npos);
+  std::ifstream summary(base / "c" / "fig2_foucault_summary.tsv");
+  const std::string table((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
+  CHECK(table.find("\tnumerical failure at step") != std::string::npos);
+  fs::remove_all(base);
+}
+
 TEST_CASE("probe: a refusal that comes after the output folder was made leaves no folder behind", "[probe]") {
   // refused only once the run's folder exists (the values overflow inside the computation, or T/h is checked late):
   // the folders the run created, nested ones included, are removed again; a folder that was there stays

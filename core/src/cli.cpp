@@ -1,6 +1,7 @@
 #include "geomint/cli.hpp"
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 #include <set>
@@ -47,6 +48,25 @@ bool Cli::parse(int argc, char** argv) {
       if (!seen.insert(o.string_key).second)
         throw InputError("option '--" + o.string_key + "' is given more than once (give all its values after one --" +
                          o.string_key + ")");
+    // An option that needs a value and has none takes the next word whatever it is: "--schemes --out x" would read
+    // "--out" as a scheme and x as a stray word, or run with x silently ignored. A value that names an option is
+    // refused as that. Names given twice in one list ("--schemes la la") would repeat rows; numbers may repeat (a
+    // vector such as --q 0 0).
+    for (const auto& o : parsed.options) {
+      if (o.string_key == "geomint-positional") continue;
+      std::set<std::string> words;
+      for (const auto& v : o.value) {
+        if (v.size() > 2 && v.compare(0, 2, "--") == 0 &&
+            all.find_nothrow(v.substr(2, v.find('=') == std::string::npos ? std::string::npos : v.find('=') - 2), false))
+          throw InputError("option '--" + o.string_key + "' has no value before the option '" + one_line(v) +
+                           "' (give its values after it, or leave it out for its default)");
+        char* end = nullptr;
+        (void)std::strtod(v.c_str(), &end);
+        const bool number = !v.empty() && end == v.c_str() + v.size();
+        if (!number && !words.insert(v).second)
+          throw InputError("'" + one_line(v) + "' is given twice to --" + o.string_key);
+      }
+    }
     po::store(parsed, vm);
     if (vm.count("help")) {
       if (Sweep::launcher_rank() == 0) std::cout << program << ": " << summary << "\n\n" << options << "\n";

@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <climits>
 #include <fcntl.h>
 #include <stdexcept>
 #include <system_error>
@@ -38,6 +39,12 @@ std::string join_names(const std::vector<std::string>& names, const char* sep) {
 
 namespace fs = std::filesystem;
 
+namespace {
+// Room kept under PATH_MAX for what goes inside an output folder: "/.geomint-run-<pid>-<n>/" and a file name of up
+// to 200 characters (the longest the programs write are under 80).
+constexpr std::size_t output_name_room = 256;
+}  // namespace
+
 fs::path output_path_for_reading(const fs::path& final_path) {
   if (OutputRun* r = OutputRun::current()) {
     const fs::path s = r->staged(final_path);
@@ -56,6 +63,16 @@ fs::path prepare_output_dir(const std::string& dir, OtherRanks others) {
   if (rank == 0) try {
       require(!dir.empty(), "output folder must not be empty");
       std::error_code ec;
+      // Every file goes into a staging folder inside it first: a path that leaves no room for those names would
+      // fail half-way through the outputs (PATH_MAX counts the whole path).
+      const std::size_t length = fs::absolute(fs::path(dir), ec).string().size();
+      require(length + output_name_room < PATH_MAX,
+              "output folder path is " + std::to_string(length) + " characters long: with the staging folder and file "
+              "names inside it, paths would pass the system's limit of " + std::to_string(PATH_MAX) + " (choose a shorter --out)");
+      ec.clear();
+      require(!(fs::is_symlink(fs::symlink_status(dir, ec)) && !fs::exists(dir, ec)),
+              "output folder '" + dir + "' is a symbolic link to a missing target");
+      ec.clear();
       detail::note_created_folders(fs::path(dir), detail::first_missing_folder(fs::path(dir)));
       fs::create_directories(dir, ec);
       require(!ec && fs::is_directory(dir), "cannot create output folder '" + dir + "'" + (ec ? ": " + ec.message() : ""));

@@ -46,7 +46,7 @@ std::vector<double> TsvTable::numbers(const std::string& name, const std::functi
 
 TsvTable read_tsv(const std::filesystem::path& path) {
   std::ifstream in(output_path_for_reading(path));  // a table of this run is still in its staging folder
-  require(static_cast<bool>(in), "cannot read '" + path.string() + "'");
+  require(static_cast<bool>(in), "cannot read '" + path.string() + "': " + std::strerror(errno));
   TsvTable t;
   std::string line;
   auto split = [](const std::string& s) {
