@@ -125,7 +125,7 @@ Fit rk8pd_run(const Rhs& f, State2 x0, double tol, double T, double omega, bool 
   while (t < T) {
     if (gsl.apply(sys, t, T, dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
       throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
-    ++steps;
+    check_adaptive_steps(++steps, t, T);
     if (measure) fit.point(t, y[0]);
   }
   do_not_optimize(y[0]);

@@ -195,7 +195,7 @@ Structure rk8pd_run(const systems::FoucaultPendulum& sc, double tol, double T, b
   while (t < T) {
     if (gsl.apply(sys, t, T, dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
       throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
-    ++steps;
+    check_adaptive_steps(++steps, t, T);
     if (measure) probe.point(t, Vec2<double>(y[0], y[1]), Vec2<double>(y[2], y[3]));
   }
   do_not_optimize(y[0]);

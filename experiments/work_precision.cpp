@@ -24,6 +24,7 @@
 #include "geomint/error.hpp"
 #include "geomint/gsl_evolve.hpp"
 #include "geomint/io.hpp"
+#include "geomint/reference.hpp"
 #include "geomint/record.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/system_cli.hpp"
@@ -104,7 +105,9 @@ Point odeint_adaptive(const std::string& name, Stepper make, double alpha, doubl
   auto run = [&](bool measure) {
     State2 x{q0, p0};
     auto stepper = make(tol);
+    long accepted = 0;
     size_t n = odeint::integrate_adaptive(stepper, sys, x, 0.0, T, 0.01, [&](const State2& y, double t) {
+      check_adaptive_steps(++accepted, t, T);
       if (measure) err = std::max(err, std::abs(y[0] - exact_q(alpha, t)));
     });
     if (measure) steps = static_cast<long>(n);
@@ -140,7 +143,7 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
         err = std::nan("");  // a failed run is a missing point
         break;
       }
-      ++n;
+      check_adaptive_steps(++n, t, T);
       if (measure) err = std::max(err, std::abs(y[0] - exact_q(alpha, t)));
     }
     if (measure) steps = n;
@@ -359,8 +362,18 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
   for (double tol : tols) {
     auto dense = [&](auto stepper, std::vector<State>* out) {
       State x = x0;
-      const std::size_t k = odeint::integrate_times(stepper, rhs, x, times.begin(), times.end(), h_out / 10,
-                                                    [&](const State& y, double) { if (out) out->push_back(y); });
+      std::size_t k = 0, kept = 0;
+      try {
+        k = odeint::integrate_times(stepper, rhs, x, times.begin(), times.end(), h_out / 10,
+                                    [&](const State& y, double) {
+                                      ++kept;
+                                      if (out) out->push_back(y);
+                                    },
+                                    odeint::max_step_checker(odeint_max_steps_between_outputs));
+      } catch (const odeint::no_progress_error&) {
+        throw_too_stiff("Boost.Odeint (" + std::string(out ? "measured" : "timed") + " run)",
+                        kept ? times[kept - 1] : times.front(), kept);
+      }
       do_not_optimize(x[0]);
       return static_cast<long>(k);
     };

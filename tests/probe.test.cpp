@@ -554,6 +554,14 @@ TEST_CASE("probe: a stiff reference and an overflowing closed form are numerical
   CHECK(stiff.exit_code == 3);
   CHECK(stiff.err.find("too stiff for an explicit integrator") != std::string::npos);
   CHECK(!fs::exists(base / "a"));
+  // the adaptive baselines of a long-horizon study (work_precision's share the rule): each stops after its step
+  // limit (1e6 steps, plus 1e5 per unit time) and is a missing point, named on stderr (3 s here; before, hours)
+  const auto lh = spawn("long_horizon_forced", {"--periods", "4", "--m", "8", "--tol", "1e-5", "--reps", "1", "--alpha",
+                                                "1e15", "--out", (base / "lh").string()}, base);
+  INFO("long_horizon_forced --alpha 1e15 -> exit " << lh.exit_code << ": " << lh.err);
+  CHECK(lh.exit_code == 0);
+  CHECK(lh.err.find("adaptive steps by t = ") != std::string::npos);
+  CHECK(lh.err.find("too stiff for an explicit integrator") != std::string::npos);
   // a damping of 1e308 overflows the contact closed form of the oscillator at its second step: a numerical failure
   // where it happens (before: a table of nan and exit 0)
   const auto over = spawn("integrate", {"--system", "oscillator", "--scheme", "contact", "--alpha", "1e308", "--out",

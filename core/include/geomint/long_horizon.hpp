@@ -20,6 +20,7 @@
 // For the adaptive methods the tolerance then acts on the renormalised state, i.e. relative to the amplitude at the
 // window's start (an absolute tolerance on the raw state stops controlling anything once the amplitude has decayed
 // below it: at alpha = 0.01 over 1000 periods the amplitude is 3e-14).
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -35,6 +36,7 @@
 #include <gsl/gsl_odeiv2.h>
 
 #include "geomint/error.hpp"
+#include "geomint/reference.hpp"
 #include "geomint/gsl_evolve.hpp"
 #include "geomint/observers.hpp"
 #include "geomint/systems/oscillator.hpp"
@@ -260,7 +262,7 @@ long controlled_steps(Stepper& st, const Rhs& rhs, State& x, double T, OnStep&& 
     const bool last = dt >= T - t;
     double dt_try = last ? T - t : dt;
     if (st.try_step(rhs, x, t, dt_try) == odeint::success) {
-      ++steps;
+      check_adaptive_steps(++steps, t, T);
       fails = 0;
       if (last) t = T;
       dt = dt_try;
@@ -297,7 +299,7 @@ OscillatorStructure run_odeint_structure(Make make, double alpha, double q0, dou
       const double dt_before = dt;
       double dt_try = clamped ? tb - t : dt;
       if (st.try_step(rhs, x, t, dt_try) == odeint::success) {
-        ++steps;
+        check_adaptive_steps(++steps, t, T);
         fails = 0;
         if (clamped) {
           t = tb;
@@ -350,7 +352,7 @@ OscillatorStructure run_gsl_rk8pd_structure(double tol, double alpha, double q0,
       if (gsl.apply(sys, t, tb, dt, y) != GSL_SUCCESS || !std::isfinite(y[0]) ||
           !std::isfinite(y[1]))
         throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
-      ++steps;
+      check_adaptive_steps(++steps, t, T);
       if (Measure) probe.point(t, y[0], y[1], scale);
     }
     if (Measure) probe.boundary(t, y[0], y[1], scale, y[2]);

@@ -1,6 +1,7 @@
 #pragma once
 // High-accuracy reference solutions with Boost.Odeint: dense output of an adaptive Dormand–Prince
 // stepper, so every requested time t_j = j h is hit exactly (not by accumulating t += h).
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -20,6 +21,17 @@ inline constexpr int odeint_max_steps_between_outputs = 1000000;
                          method + " took more than " + std::to_string(odeint_max_steps_between_outputs) +
                              " steps between two output times after t = " + show(t) +
                              ": the equations are too stiff for an explicit integrator at these parameters");
+}
+
+// An adaptive explicit method takes well under 1e3 steps per unit time on the problems here at any tolerance; a
+// stiff one (a damping of 1e15) would take about alpha T steps, for hours. Past this many it stops with a numerical
+// failure: 1e6 steps, plus 1e5 per unit time (100 times the most a tight nonstiff run takes).
+inline long adaptive_step_limit(double T) { return 1000000 + static_cast<long>(std::min(1e5 * T, 1e15)); }
+inline void check_adaptive_steps(long steps, double t, double T) {
+  if (steps > adaptive_step_limit(T))
+    throw NumericalFailure(steps, "step size", "more than " + show(static_cast<double>(adaptive_step_limit(T))) +
+                                                   " adaptive steps by t = " + show(t) +
+                                                   ": the equations are too stiff for an explicit integrator at these parameters");
 }
 
 // Integrates x' = sys(x, t) from times.front() and returns the state at every entry of `times`.
