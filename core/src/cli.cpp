@@ -56,8 +56,8 @@ bool Cli::parse(int argc, char** argv) {
       if (o.string_key == "geomint-positional") continue;
       std::set<std::string> words;
       for (const auto& v : o.value) {
-        if (v.size() > 2 && v.compare(0, 2, "--") == 0 &&
-            all.find_nothrow(v.substr(2, v.find('=') == std::string::npos ? std::string::npos : v.find('=') - 2), false))
+        const std::string name = v.size() > 2 && v.compare(0, 2, "--") == 0 ? v.substr(2, v.find('=') - 2) : "";
+        if (!name.empty() && all.find_nothrow(name, false))
           throw InputError("option '--" + o.string_key + "' has no value before the option '" + one_line(v) +
                            "' (give its values after it, or leave it out for its default)");
         char* end = nullptr;

@@ -16,11 +16,17 @@ namespace geomint {
 // one (a damping of 1e15) would take about alpha T steps, for hours. Past this many it stops with a numerical failure.
 inline constexpr int odeint_max_steps_between_outputs = 1000000;
 
+// An explicit integrator stopped by a step limit: "<what> by t = <t>: the equations are too stiff ...".
+[[noreturn]] inline void throw_too_stiff(long where, const std::string& quantity, const std::string& what, double t) {
+  throw NumericalFailure(where, quantity,
+                         what + " by t = " + show(t) + ": the equations are too stiff for an explicit integrator at "
+                                                       "these parameters");
+}
 [[noreturn]] inline void throw_too_stiff(const std::string& method, double t, std::size_t outputs) {
-  throw NumericalFailure(static_cast<long>(outputs), "reference",
-                         method + " took more than " + std::to_string(odeint_max_steps_between_outputs) +
-                             " steps between two output times after t = " + show(t) +
-                             ": the equations are too stiff for an explicit integrator at these parameters");
+  throw_too_stiff(static_cast<long>(outputs), "reference",
+                  method + " took more than " + std::to_string(odeint_max_steps_between_outputs) +
+                      " steps between two output times",
+                  t);
 }
 
 // An adaptive explicit method takes well under 1e3 steps per unit time on the problems here at any tolerance; a
@@ -29,9 +35,7 @@ inline constexpr int odeint_max_steps_between_outputs = 1000000;
 inline long adaptive_step_limit(double T) { return 1000000 + static_cast<long>(std::min(1e5 * T, 1e15)); }
 inline void check_adaptive_steps(long steps, double t, double T) {
   if (steps > adaptive_step_limit(T))
-    throw NumericalFailure(steps, "step size", "more than " + show(static_cast<double>(adaptive_step_limit(T))) +
-                                                   " adaptive steps by t = " + show(t) +
-                                                   ": the equations are too stiff for an explicit integrator at these parameters");
+    throw_too_stiff(steps, "step size", "more than " + show(static_cast<double>(adaptive_step_limit(T))) + " adaptive steps", t);
 }
 
 // Integrates x' = sys(x, t) from times.front() and returns the state at every entry of `times`.
