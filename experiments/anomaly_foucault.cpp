@@ -38,7 +38,7 @@ using namespace geomint;
 namespace {
 
 constexpr double deg = 180 / foucault_pi;
-const double NaN = std::nan("");
+const double NaN = missing_value;
 
 std::string series_name(const std::string& scheme, const std::string& constraint) {
   return scheme + " " + constraint;
@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
                 ok ? M.measured * deg : NaN, ok ? M.t_land : NaN, ok ? M.r_land : NaN, ok ? M.rho : NaN,
                 ok ? M.predicted * deg : NaN, ok ? M.energy_loss : NaN, ok ? S.energy_ratio_end : NaN,
                 ok ? r.energy_ratio_exact : NaN, ok ? S.plane_error * deg : NaN, ok ? S.half_swings : 0L,
-                ok ? S.min_rho : NaN, ok ? S.t_min_rho : NaN);
+                ok && std::isfinite(S.min_rho) ? S.min_rho : NaN, ok ? S.t_min_rho : NaN);  // no landing: no closest one
       }
       tsv.commit();
     }

@@ -6,6 +6,7 @@
 //   backward_error [--h-max 0.2] [--h-min 0.003] [--alpha 0.01 0.1 1] [--T 50] [--out out]
 // Writes out/backward_error.tsv, out/backward_error_fits.tsv, out/all_orders.tsv,
 // out/backward_error_crosscheck.tsv and out/backward_error_{la,contact}.{png,pdf}.
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -61,7 +62,7 @@ int main(int argc, char** argv) {
       for (double a : alphas)
         for (Start st : {Start::consistent, Start::naive})
           for (double h : hs) {
-            const double nan = std::nan("");
+            const double nan = missing_value;
             const auto g = run_or_missing(
                 s + " alpha=" + show(a) + " h=" + show(h) + " start=" + start_name(st),
                 [&] { return agreement(s, a, h, T, q0, p0, st, 1, tol); },
@@ -108,20 +109,36 @@ int main(int argc, char** argv) {
     for (const auto& s : names)
       for (double a : alphas)
         for (double h : hs) {
-          const auto m = all_orders_by_name(s, h, a);
-          // first-order coefficients predicted by the code of (8)/(11): (a_mod - alpha)/h, (b_mod - 1)/h
-          const auto c = modified_coefficients(s, a, h);
-          const double a1 = (c.a - a) / h, b1 = (c.b - 1) / h;
+          const std::string context = s + " alpha=" + show(a) + " h=" + show(h) + " (all orders)";
+          // the coefficients, and the first-order ones predicted by the code of (8)/(11): (a_mod - alpha)/h,
+          // (b_mod - 1)/h; beyond double precision (a damping of 1e200) they are missing values, named
+          const auto co = run_or_missing(
+              context,
+              [&] {
+                const auto m = all_orders_by_name(s, h, a);
+                const auto c = modified_coefficients(s, a, h);
+                const std::array<double, 6> v{m.a, m.b, (m.a - a) / h, (c.a - a) / h, (m.b - 1) / h, (c.b - 1) / h};
+                for (double x : v)
+                  if (!std::isfinite(x) && !is_missing(x))
+                    throw NumericalFailure(0, "modified coefficients", "a coefficient is " + show(x));
+                return std::make_pair(m, v);
+              },
+              [&] {
+                AllOrders none;
+                return std::make_pair(none, std::array<double, 6>{missing_value, missing_value, missing_value,
+                                                                   missing_value, missing_value, missing_value});
+              });
+          const auto& [m, v] = co;
           const double dev = run_or_missing(
-              s + " alpha=" + show(a) + " h=" + show(h) + " (all orders)",
+              context,
               [&] {
                 const auto tr = osc.run(scene(a), s, h, Path::fast, 1);
                 return all_orders_deviation(m, tr.t, tr.q);
               },
-              [] { return std::nan(""); });
-          ao.row(s, a, h, m.a, m.b, (m.a - a) / h, a1, (m.b - 1) / h, b1, dev);
-          std::printf("%-8s %-5g %-10g %14.10f %14.10f %11.6f %11.6f %11.6f %11.6f %11.2e\n", s.c_str(), a, h, m.a, m.b,
-                      (m.a - a) / h, a1, (m.b - 1) / h, b1, dev);
+              [] { return missing_value; });
+          ao.row(s, a, h, v[0], v[1], v[2], v[3], v[4], v[5], dev);
+          std::printf("%-8s %-5g %-10g %14.10f %14.10f %11.6f %11.6f %11.6f %11.6f %11.2e\n", s.c_str(), a, h, v[0],
+                      v[1], v[2], v[3], v[4], v[5], dev);
         }
     ao.commit();
 
@@ -143,7 +160,7 @@ int main(int argc, char** argv) {
               }
               return std::make_pair(mq, mz);
             },
-            [] { return std::make_pair(std::nan(""), std::nan("")); });
+            [] { return std::make_pair(missing_value, missing_value); });
         cc.row(s, a, h, dq, dz);
         std::printf("\nOdeint dopri5 vs GSL rk8pd, %s alpha=%g h=%g: max|dq| = %.2e, max|dz| = %.2e", s.c_str(), a, h,
                     dq, dz);

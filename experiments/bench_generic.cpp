@@ -33,8 +33,8 @@ struct Counts {
 struct Pair {
   std::string system, scheme, closed, closed_case, generic_case;
   std::string regime = "one run";  // or "runs of T": restarted at the system's horizon (see run_generic)
-  double newton = std::nan("");     // Newton updates per step of the generic step
-  double jacobians = std::nan("");  // Jacobians assembled per step
+  double newton = missing_value;     // Newton updates per step of the generic step
+  double jacobians = missing_value;  // Jacobians assembled per step
   void set(const Counts& c) {
     newton = c.updates;
     jacobians = c.jacobians;
@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
     }
     for (const auto& p : alone) {
       const double g = table.ns(p.generic_case);
-      ratios.row(p.system, p.scheme, p.regime, "-", std::nan(""), g, std::nan(""), p.newton, p.jacobians);
+      ratios.row(p.system, p.scheme, p.regime, "-", missing_value, g, missing_value, p.newton, p.jacobians);
       std::printf("%-18s %-18s %-10s %-16s %10s %10.2f %8s %8.3f %9.3f\n", p.system.c_str(), p.scheme.c_str(),
                   p.regime.c_str(), "-", "-", g, "-", p.newton, p.jacobians);
     }

@@ -68,7 +68,7 @@ class Table {
   double ns(const std::string& name) const {
     for (const auto& r : rows_)
       if (r.name == name && !r.seconds.empty()) return r.ns();
-    return std::nan("");
+    return missing_value;
   }
   const std::vector<Row>& rows() const { return rows_; }
 

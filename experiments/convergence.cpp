@@ -89,12 +89,12 @@ int main(int argc, char** argv) {
         row.insert(row.end(), key.begin(), key.end());
         for (std::size_t i = 0; i < hs.size(); ++i) {
           auto r = row;
-          r.insert(r.end(), {format_number(hs[i]), std::to_string(se.steps[i]), format_number(se.err[i]),
-                             format_number(se.local_order[i])});
+          r.insert(r.end(), {format_cell(hs[i]), std::to_string(se.steps[i]), format_cell(se.err[i]),
+                             format_cell(se.local_order[i])});
           tsv.write_row(r);
         }
         auto r = row;
-        r.insert(r.end(), {format_number(se.fit.slope), std::to_string(se.fit.points), std::to_string(se.expected_order)});
+        r.insert(r.end(), {format_cell(se.fit.slope), std::to_string(se.fit.points), std::to_string(se.expected_order)});
         fits.write_row(r);
         std::printf("  %-*s %-*sfitted order %6.3f  err(h=%g) = %.3e\n    asymptotic range: %s\n", width,
                     se.scheme.c_str(), label.empty() ? 0 : 25, label.c_str(), se.fit.slope, hs.front(), se.err.front(), se.asymptotic.describe().c_str());

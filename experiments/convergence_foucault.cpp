@@ -33,7 +33,7 @@ using namespace geomint;
 namespace {
 
 struct RunErrors {
-  double err_max = 0, energy_err = 0, plane_err = 0, rate_rel_err = std::nan(""), min_r = 0;
+  double err_max = 0, energy_err = 0, plane_err = 0, rate_rel_err = missing_value, min_r = 0;
   std::string status = "ok";
 };
 
@@ -148,13 +148,13 @@ int main(int argc, char** argv) {
               });
             } catch (const NumericalFailure& f) {
               e = RunErrors{};  // a failed run is a missing value, not a crash
-              e.err_max = e.energy_err = e.plane_err = e.min_r = std::nan("");
+              e.err_max = e.energy_err = e.plane_err = e.min_r = missing_value;
               e.status = f.what();
             }
             errs.push_back(e.err_max);
             const double order = errs.size() > 1 ? std::log(errs[errs.size() - 2] / errs.back()) /
                                                        std::log(hs[errs.size() - 2] / hs[errs.size() - 1])
-                                                 : std::nan("");
+                                                 : missing_value;
             tsv.row(n, a, T, h, N, e.err_max, order, e.energy_err, e.plane_err, e.rate_rel_err, e.min_r, e.status);
             std::printf("%-10s %-7g %-4g %-10g %11.4e %6.2f %11.4e %11.4e %10.3e %10.3e\n", n.c_str(), a, T, h,
                         e.err_max, order, e.energy_err, e.plane_err, e.rate_rel_err, e.min_r);

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
@@ -138,10 +139,10 @@ int main(int argc, char** argv) {
       TsvWriter tsv(dir / (stem + "_runs.tsv"), "ensemble", params, cols);
       for (const auto& r : results) {
         std::vector<std::string> cells{std::to_string(r.k)};
-        for (double v : r.values) cells.push_back(format_number(v));
-        cells.push_back(format_number(r.energy0));
+        for (double v : r.values) cells.push_back(format_cell(v));
+        cells.push_back(format_cell(r.energy0));
         for (std::size_t c = 0; c < quantities.size(); ++c)
-          cells.push_back(r.ok() ? format_number(value_of(r, c)) : "nan");
+          cells.push_back(r.ok() ? format_cell(value_of(r, c)) : "nan");
         std::string status = r.ok() ? "ok" : one_line(r.failure);
         std::replace(status.begin(), status.end(), '\t', ' ');
         cells.push_back(status);
@@ -156,11 +157,21 @@ int main(int argc, char** argv) {
         std::vector<double> x;
         for (const auto& r : results)
           if (r.ok()) x.push_back(value_of(r, c));
-        double mean = 0, var = 0;
-        for (double v : x) mean += v;
-        mean /= static_cast<double>(x.size());
-        for (double v : x) var += (v - mean) * (v - mean);
-        const double sd = x.size() > 1 ? std::sqrt(var / static_cast<double>(x.size() - 1)) : 0.0;
+        auto moments = [&x](double scale) {  // of x / scale, times scale
+          double mean = 0, var = 0;
+          for (double v : x) mean += v / scale;
+          mean /= static_cast<double>(x.size());
+          for (double v : x) var += (v / scale - mean) * (v / scale - mean);
+          const double sd = x.size() > 1 ? std::sqrt(var / static_cast<double>(x.size() - 1)) : 0.0;
+          return std::make_pair(scale * mean, scale * sd);
+        };
+        auto [mean, sd] = moments(1);
+        if (!std::isfinite(mean) || !std::isfinite(sd)) {
+          // finite values near overflow (a run close to blowing up) whose squares overflow: scaled by the largest
+          double scale = 0;
+          for (double v : x) scale = std::max(scale, std::abs(v));
+          if (scale > 0 && std::isfinite(scale)) std::tie(mean, sd) = moments(scale);
+        }
         const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
         tsv.row(quantities[c], static_cast<long>(x.size()), mean, sd, *lo, *hi);
       }

@@ -125,8 +125,12 @@ int main(int argc, char** argv) {
           const double t = static_cast<double>(j) * h;
           const auto xq = foucault_exact(p, q0, v0c, t);
           const auto xe = foucault_exact(p, q0, v0c, t + h / 2);
-          tsv.row("reference", a, h, "sample", j, t, xq.q(0), xq.q(1), t + h / 2, foucault_energy(p, xe.q, xe.v),
-                  std::nan(""), std::nan(""), std::nan(""), std::nan(""));
+          const double E = foucault_energy(p, xe.q, xe.v);
+          if (!xq.q.allFinite() || !std::isfinite(E))
+            throw NumericalFailure(j, "reference", "the closed-form solution or its energy is not finite at t = " +
+                                                       show(t) + " (alpha = " + show(a) + ")");
+          tsv.row("reference", a, h, "sample", j, t, xq.q(0), xq.q(1), t + h / 2, E, missing_value, missing_value,
+                  missing_value, missing_value);
         }
         const double t_fin = base.T - h / 2;
         const auto xf = foucault_exact(p, q0, v0c, t_fin);
@@ -145,16 +149,16 @@ int main(int argc, char** argv) {
             const auto it = smp.turning ? turn_at.find(smp.j) : turn_at.end();
             const bool tp = it != turn_at.end();
             tsv.row(n, a, h, tp ? "turn" : "sample", smp.j, smp.t, smp.x, smp.y, smp.t + h / 2, smp.energy,
-                    smp.lambda, smp.residual, tp ? it->second->angle : std::nan(""),
-                    tp ? it->second->jump : std::nan(""));
+                    smp.lambda, smp.residual, tp ? it->second->angle : missing_value,
+                    tp ? it->second->jump : missing_value);
           }
           const auto& S = run.summary;
           const bool ok = status == "ok";
-          const double nan = std::nan("");
+          const double nan = missing_value;
           sum.row(n, a, h, N, status, ok ? S.E0 : nan, ok ? S.E_final / S.E0 : nan, ok ? S.t_final : nan,
                   std::exp(-a * t_fin), Eex, ok ? S.max_residual : nan, ok ? S.max_abs_residual : nan,
-                  ok ? S.max_abs_lambda : nan, ok ? S.min_r : nan, ok ? S.t_min_r : nan, ok ? S.min_pass_ratio : nan,
-                  ok ? S.t_min_pass_ratio : nan, S.turns,
+                  ok ? S.max_abs_lambda : nan, ok ? S.min_r : nan, ok ? S.t_min_r : nan, ok && std::isfinite(S.min_pass_ratio) ? S.min_pass_ratio : nan,
+                  ok && std::isfinite(S.min_pass_ratio) ? S.t_min_pass_ratio : nan, S.turns,
                   ok ? S.max_jump * deg : nan, ok ? S.t_max_jump : nan, ok ? S.max_energy_loss : nan,
                   ok ? S.t_max_energy_loss : nan, ok ? S.rate : nan, ok ? S.rate / -s : nan);
           if (!ok) {

@@ -67,15 +67,15 @@ int main(int argc, char** argv) {
     std::replace(stem.begin(), stem.end(), ':', '_');  // a composition "<family>:<base>": no colon in a file name
     TsvWriter tsv(dir / (stem + ".tsv"), "integrate", params, cols);
     for (std::size_t r = 0; r < run.t.size(); ++r) {
-      std::vector<std::string> cells{std::to_string(run.j[r]), format_number(run.t[r])};
-      for (int i = 0; i < n; ++i) cells.push_back(format_number(run.q[r * n + i]));
-      for (int i = 0; i < n; ++i) cells.push_back(format_number(run.p[r * n + i]));
-      for (int i = 0; i < n; ++i) cells.push_back(format_number(run.v[r * n + i]));
-      cells.push_back(format_number(run.z[r]));
-      for (int c = 0; c < m; ++c) cells.push_back(format_number(run.lambda[r * m + c]));
-      cells.push_back(format_number(run.energy[r]));
-      cells.push_back(format_number(run.phi_d[r]));
-      cells.push_back(format_number(run.phi[r]));
+      std::vector<std::string> cells{std::to_string(run.j[r]), format_cell(run.t[r])};
+      for (int i = 0; i < n; ++i) cells.push_back(format_cell(run.q[r * n + i]));
+      for (int i = 0; i < n; ++i) cells.push_back(format_cell(run.p[r * n + i]));
+      for (int i = 0; i < n; ++i) cells.push_back(format_cell(run.v[r * n + i]));
+      cells.push_back(format_cell(run.z[r]));
+      for (int c = 0; c < m; ++c) cells.push_back(format_cell(run.lambda[r * m + c]));
+      cells.push_back(format_cell(run.energy[r]));
+      cells.push_back(format_cell(run.phi_d[r]));
+      cells.push_back(format_cell(run.phi[r]));
       cells.push_back(std::to_string(run.newton[r]));
       tsv.write_row(cells);
     }

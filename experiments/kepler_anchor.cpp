@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
       std::printf("\nCPU seconds per run (median of %d):\n", reps);
       for (const auto& s : settings)
         for (const auto& m : methods) {
-          double sec = std::nan("");
+          double sec = missing_value;
           try {
             sec = kepler_anchor_seconds(s, m, reps);
           } catch (const NumericalFailure&) {

@@ -46,7 +46,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 struct Fit {
-  double amp = std::nan(""), phase = std::nan("");
+  double amp = missing_value, phase = missing_value;
   long steps = 0;
 };
 
@@ -85,10 +85,20 @@ class SteadyFit {
     gsl_vector_free(c);
     gsl_vector_free(y);
     gsl_matrix_free(X);
+    // a run that grows without bound (contact at alpha h >> 1) can stay finite while its least squares overflow
+    if (!std::isfinite(f.amp) || !std::isfinite(f.phase))
+      throw NumericalFailure(steps, "steady-state fit",
+                             "the least-squares amplitude over t >= " + show(t0_) + " is not finite (|q| up to " +
+                                 show(max_abs()) + ")");
     return f;
   }
 
  private:
+  double max_abs() const {
+    double m = 0;
+    for (double q : q_) m = std::max(m, std::abs(q));
+    return m;
+  }
   double w_, t0_;
   std::vector<double> t_, q_;
 };

@@ -51,7 +51,7 @@ using State4 = std::array<double, 4>;
 namespace {
 
 struct Structure {
-  double precession = std::nan(""), decay = std::nan(""), constraint = std::nan(""), discrete = std::nan("");
+  double precession = missing_value, decay = missing_value, constraint = missing_value, discrete = missing_value;
   long steps = 0, turns = 0;
   std::vector<std::array<double, 2>> drift;  // (t, constraint residual) at the turning points
 };

@@ -139,10 +139,10 @@ int main(int argc, char** argv) {
               a = find_modified_system(r.system).agreement(pv, r.scheme, r.K, r.h, T, tol);
             } catch (const NumericalFailure& e) {
               std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
-              a.err_q = a.err_z = a.v_shift = std::nan("");
+              a.err_q = a.err_z = a.v_shift = missing_value;
             } catch (const std::domain_error& e) {
               std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
-              a.err_q = a.err_z = a.v_shift = std::nan("");
+              a.err_q = a.err_z = a.v_shift = missing_value;
             }
             out[k] = a;
           });

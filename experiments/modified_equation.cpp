@@ -58,7 +58,7 @@ double param_value(const SystemInfo& info, const ParamValues& pv, const std::str
     if (k == name) return x;
   for (const auto& p : info.params)
     if (p.name == name) return p.value;
-  return std::nan("");
+  return missing_value;
 }
 
 void write_formulas(const std::filesystem::path& dir, const std::string& prefix, const std::string& system, const std::vector<std::string>& schemes,

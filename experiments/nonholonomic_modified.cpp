@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
         a = find_modified_system(r.system).agreement(pv, r.scheme, r.K, r.h, T, tol);
       } catch (const NumericalFailure& e) {
         std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
-        a.err_q = a.err_mu = a.phi_d = a.phi_h0 = a.phi_h_drift = std::nan("");
+        a.err_q = a.err_mu = a.phi_d = a.phi_h0 = a.phi_h_drift = missing_value;
       }
       results[i] = a;
     });
@@ -213,7 +213,7 @@ int main(int argc, char** argv) {
       // the asymptotic power of r: slope of log|F_k| against log r over the three smallest radii
       const std::vector<double> r3(rs.end() - 3, rs.end()), f3(R.F.end() - 3, R.F.end()), m3(R.mu.end() - 3, R.mu.end());
       const auto pf = fit_order(r3, f3, 0), pm = fit_order(r3, m3, 0);
-      double cross = std::nan("");
+      double cross = missing_value;
       if (R.k == 3) {
         const auto& F1 = rows[static_cast<std::size_t>(&R - rows.data() - 2)].F;
         cross = std::sqrt(R.F.back() / F1.back()) * rs.back() / V;

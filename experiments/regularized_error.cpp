@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
         err[s][c] = sys.max_relative_error(combos[c], schemes[s], h, path, ref, shift);
       } catch (const NumericalFailure& f) {
         std::fprintf(stderr, "regularized_error: %s (recorded as a missing value)\n", f.what());
-        err[s][c] = std::nan("");
+        err[s][c] = missing_value;
       }
     }
   }
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
     for (std::size_t c = 0; c < combos.size(); ++c) {
       std::vector<std::string> row{sys.name, schemes[s]};
       for (const auto& x : swept) row.push_back(format_number(param_value(combos[c], sys, x)));
-      row.insert(row.end(), {format_number(h), format_number(err[s][c])});
+      row.insert(row.end(), {format_number(h), format_cell(err[s][c])});
       tsv.write_row(row);
       std::printf(" %14.3e", err[s][c]);
     }

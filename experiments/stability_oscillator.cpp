@@ -81,9 +81,9 @@ int main(int argc, char** argv) {
             const double a = as[k % per / static_cast<std::size_t>(n)], h = hs[k % static_cast<std::size_t>(n)];
             const auto m = all_orders_by_name(names[k / per], h, a);
             // decay ratio a_h / alpha; frequency ratio where both oscillate
-            const double dr = m.valid ? m.a / a : std::nan("");
+            const double dr = m.valid ? m.a / a : missing_value;
             const double w = a < 2 && m.valid && m.oscillating ? std::sqrt(m.b - m.a * m.a / 4) / std::sqrt(1 - a * a / 4)
-                                                             : std::nan("");
+                                                             : missing_value;
             out.push_back({m.spectral_radius, static_cast<int>(classify(m, a)), dr, w});
           }
           return out;
@@ -207,7 +207,7 @@ int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<s
         for (std::size_t k = first; k < last; ++k) {
           const double a = as[k % per / static_cast<std::size_t>(n)], h = hs[k % static_cast<std::size_t>(n)];
           const ParamValues pv = with_alpha(a);
-          Cell c{std::nan(""), static_cast<int>(Region::unstable), std::nan(""), std::nan(""), std::nan("")};
+          Cell c{missing_value, static_cast<int>(Region::unstable), missing_value, missing_value, missing_value};
           try {
             const auto r = classify_linear_map(sys.one_step_matrix(pv, names[k / per], h, Path::generic), sys.continuous_matrix(pv), N, h);
             c = {r.spectral_radius, static_cast<int>(r.region), r.decay_ratio, r.freq_low, r.freq_high};

@@ -140,7 +140,7 @@ Point gsl_rk8pd(double alpha, double tol, int reps) {
     long n = 0;
     while (t < T) {
       if (gsl.apply(sys, t, T, dt, y) != GSL_SUCCESS) {
-        err = std::nan("");  // a failed run is a missing point
+        err = missing_value;  // a failed run is a missing point
         break;
       }
       check_adaptive_steps(++n, t, T);
@@ -311,7 +311,7 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
   for (const auto& name : schemes)
     for (double h : hs) {
       pts.push_back(measure_point_timed(
-          point(name, "geometric", "h", std::nan(""), h, step_count(h, Tsys)), 1,
+          point(name, "geometric", "h", missing_value, h, step_count(h, Tsys)), 1,
           [&] { return Measured{{sys.max_error(pv, name, h, Path::fast, ref)}, step_count(h, Tsys)}; },
           [&] { return sys.time_run(pv, name, h, Path::fast, reps); }, reps, sys.name + " " + name + " h=" + show(h)));
     }
@@ -330,7 +330,7 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
     for (std::size_t j = 0; j < xs.size(); ++j)
       for (int i = 0; i < n; ++i)
         e = std::max(e, std::abs(xs[j][static_cast<std::size_t>(i)] - ref.q[j * static_cast<std::size_t>(out_stride * n) + static_cast<std::size_t>(i)]));
-    return xs.size() == times.size() ? e : std::nan("");
+    return xs.size() == times.size() ? e : missing_value;
   };
   for (double h : hs) {
     const long N = step_count(h, Tsys);
@@ -346,7 +346,7 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
       do_not_optimize(x[0]);
     };
     pts.push_back(measure_point_timed(
-        point("odeint-rk4", "rk", "h", std::nan(""), h, N), 1,
+        point("odeint-rk4", "rk", "h", missing_value, h, N), 1,
         [&] {
           std::vector<State> xs;
           run(&xs);
@@ -380,7 +380,7 @@ int generic_work_precision(const Cli& cli, const SystemOptions& sysopt, const st
     // an adaptive run's error and steps (measured), or the same work with nothing kept (timed)
     auto adaptive = [&](const std::string& method, auto make) {
       return measure_point_timed(
-          point(method, "adaptive", "tol", std::nan(""), tol, 0), 1,
+          point(method, "adaptive", "tol", missing_value, tol, 0), 1,
           [&] {
             std::vector<State> xs;
             const long steps = dense(make(), &xs);

@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
     for (const auto& hz : horizons) {
       std::fprintf(stderr, "work_precision_foucault: T = %g s ...\n", hz.T);
       // A run that fails is a missing point (nan error and times); the sweep goes on.
-      const double nan = std::nan("");
+      const double nan = missing_value;
       auto missing = [&](const std::string& method, const char* knob, double value, long steps) {
         return [&, method, knob, value, steps] {
           return Point{method, hz.con, knob, hz.T, value, nan, steps, {nan, nan, nan, reps}};

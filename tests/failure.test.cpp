@@ -14,14 +14,15 @@
 using namespace geomint;
 
 TEST_CASE("an unstable run reports the step where the state stopped being finite", "[failure]") {
-  // contact at h = 2.5 > 2 is unstable (see the stability maps): |q| grows geometrically until it overflows.
+  // contact at h = 2.5 > 2 is unstable (see the stability maps): |q| grows geometrically, and z (which sums
+  // h L ~ h |p|^2) with twice its rate, until it overflows.
   // The first non-finite step, found by a plain loop:
   long first_bad = -1;
   {
     OscState<double> r{-0.25, 0.75, 0};
     for (long j = 1; j <= 100000 && first_bad < 0; ++j) {
       systems::Oscillator::Contact::step(r, 2.5, 0.01);
-      if (!std::isfinite(r.q) || !std::isfinite(r.p)) first_bad = j;
+      if (!std::isfinite(r.q) || !std::isfinite(r.p) || !std::isfinite(r.z)) first_bad = j;
     }
   }
   REQUIRE(first_bad > 100);  // it takes hundreds of steps to overflow from O(1)

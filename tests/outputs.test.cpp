@@ -4,6 +4,8 @@
 #include <catch2/catch.hpp>
 
 #include <climits>
+#include <cmath>
+#include <limits>
 #include <csignal>
 #include <fcntl.h>
 #include <fstream>
@@ -82,6 +84,39 @@ TEST_CASE("a discarded run leaves the old outputs and no temporary", "[outputs]"
   run.discard();
   CHECK(slurp(dir / "a.tsv") == "old a\n");
   CHECK(entries(dir) == 1);
+}
+
+TEST_CASE("a table writes a missing value as nan and refuses a value computed as nan or inf", "[outputs]") {
+  // The missing value survives the arithmetic a program does on it (a difference, a ratio, a logarithm); a nan
+  // made by the arithmetic itself (0/0, the root of a negative number) and an overflow are not missing values.
+  volatile double zero = 0, big = 1e308;
+  CHECK(is_missing(missing_value));
+  CHECK(is_missing(-missing_value));
+  CHECK(is_missing(std::log10(std::abs(missing_value - 1.0) / 3.0)));
+  CHECK(is_missing(missing_value * big));
+  CHECK_FALSE(is_missing(zero / zero));
+  CHECK_FALSE(is_missing(std::sqrt(zero - 1)));
+  CHECK_FALSE(is_missing(std::numeric_limits<double>::quiet_NaN()));
+  CHECK_FALSE(is_missing(1.0));
+
+  const auto dir = fresh_dir("table-not-finite");
+  std::ofstream(dir / "a.tsv") << "old a\n";
+  OutputRun& run = OutputRun::start(dir);
+  {
+    TsvWriter t(dir / "a.tsv", "test", {}, {"h", "err"});
+    t.row(0.1, missing_value);
+    t.row(0.2, 2 * missing_value);
+    CHECK_THROWS_WITH(t.row(0.3, zero / zero),
+                      Catch::Contains("numerical failure in a.tsv, row 3, column err") && Catch::Contains("is nan"));
+    CHECK_THROWS_WITH(t.row(0.4, big * 10), Catch::Contains("a.tsv, row 4, column err") && Catch::Contains("is inf"));
+    CHECK_THROWS_WITH(t.write_row({format_cell(-big * 10), "1"}), Catch::Contains("row 5, column h") && Catch::Contains("is -inf"));
+    t.row(0.5, 1.0);
+    t.commit();
+  }
+  run.commit();
+  const std::string text = slurp(dir / "a.tsv");
+  CHECK(text.find("0.1\tnan\n0.2\tnan\n0.5\t1\n") != std::string::npos);
+  CHECK(text.find("inf") == std::string::npos);
 }
 
 TEST_CASE("a write error is an error, never a truncated file", "[outputs]") {

@@ -1,3 +1,4 @@
+#include "geomint/error.hpp"
 #include "geomint/foucault_diagnostics.hpp"
 
 #include <gsl/gsl_fit.h>
@@ -12,7 +13,7 @@ double fit_precession_rate(const std::vector<FoucaultTurn>& turns, int* points) 
       a.push_back(k.angle);
     }
   if (points) *points = static_cast<int>(t.size());
-  if (t.size() < 3) return std::nan("");
+  if (t.size() < 3) return missing_value;
   double c0, c1, cov00, cov01, cov11, sumsq;
   gsl_fit_linear(t.data(), 1, a.data(), 1, t.size(), &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
   return c1;

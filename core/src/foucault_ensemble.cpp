@@ -1,3 +1,4 @@
+#include "geomint/error.hpp"
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/sweep.hpp"
 
@@ -22,7 +23,7 @@ using quad = boost::multiprecision::cpp_bin_float_quad;
 
 double predicted_jump(double s, double h, double qm_x, double qm_y, double q_x, double q_y) {
   const double rm = std::hypot(qm_x, qm_y), r = std::hypot(q_x, q_y);
-  if (!(rm > 0) || !std::isfinite(rm) || !std::isfinite(r)) return std::nan("");
+  if (!(rm > 0) || !std::isfinite(rm) || !std::isfinite(r)) return missing_value;
   const double sigma = qm_x * q_x + qm_y * q_y >= 0 ? 1.0 : -1.0;
   const double sn = r > 0 ? -sigma * s * h * rm / r : -sigma * 1.0;
   return std::asin(std::clamp(sn, -1.0, 1.0)) + s * h;
@@ -532,7 +533,7 @@ double predicted_jump_count(const systems::FoucaultPendulum& base, double alpha,
   sc.alpha = alpha;
   const FoucaultParams<double> p(sc);
   const double wd2 = p.w2 - p.s * p.s - alpha * alpha / 4;
-  if (!(wd2 > 0)) return std::nan("");
+  if (!(wd2 > 0)) return missing_value;
   const double passes = sc.T * std::sqrt(wd2) / foucault_pi;
   return passes * std::min(1.0, 2 * std::abs(p.s) * h / std::sin(K));
 }
@@ -543,7 +544,7 @@ double predicted_jump_probability(const systems::FoucaultPendulum& base, double 
 
 double quantile(std::vector<double> v, double q) {
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
-  if (v.empty()) return std::nan("");
+  if (v.empty()) return missing_value;
   std::sort(v.begin(), v.end());
   const double pos = q * static_cast<double>(v.size() - 1);
   const auto i = static_cast<std::size_t>(pos);
@@ -569,7 +570,7 @@ std::vector<AnomalyCell> summarize_anomaly(const systems::FoucaultPendulum& base
     long ok = 0, loss = 0;
     std::array<long, 3> over{0, 0, 0}, count{0, 0, 0};
     std::array<std::vector<double>, 3> per_run;  // jumps per run, for the standard error of the mean
-    double max_jump = std::nan("");
+    double max_jump = missing_value;
     for (const auto* r : rs) {
       ++c.runs;
       if (r->status != "ok") {
@@ -591,15 +592,15 @@ std::vector<AnomalyCell> summarize_anomaly(const systems::FoucaultPendulum& base
       if (!(jd <= max_jump)) max_jump = jd;
     }
     for (std::size_t k = 0; k < 3; ++k) {
-      c.p_jump[k] = ok > 0 ? static_cast<double>(over[k]) / static_cast<double>(ok) : std::nan("");
+      c.p_jump[k] = ok > 0 ? static_cast<double>(over[k]) / static_cast<double>(ok) : missing_value;
       c.p_jump_ci[k] = clopper_pearson(over[k], ok);
       c.p_predicted[k] = predicted_jump_probability(base, c.alpha, c.h, anomaly_jump_thresholds_deg[k] / deg);
       const bool complete = record_threshold * deg <= anomaly_jump_thresholds_deg[k];
-      c.mean_jumps[k] = ok > 0 && complete ? static_cast<double>(count[k]) / static_cast<double>(ok) : std::nan("");
-      c.mean_jumps_se[k] = complete ? mean_se(per_run[k]).se : std::nan("");
+      c.mean_jumps[k] = ok > 0 && complete ? static_cast<double>(count[k]) / static_cast<double>(ok) : missing_value;
+      c.mean_jumps_se[k] = complete ? mean_se(per_run[k]).se : missing_value;
       c.mean_predicted[k] = predicted_jump_count(base, c.alpha, c.h, anomaly_jump_thresholds_deg[k] / deg);
     }
-    c.p_energy_loss = ok > 0 ? static_cast<double>(loss) / static_cast<double>(ok) : std::nan("");
+    c.p_energy_loss = ok > 0 ? static_cast<double>(loss) / static_cast<double>(ok) : missing_value;
     c.p_energy_loss_ci = clopper_pearson(loss, ok);
     c.p_energy_predicted = predicted_jump_probability(base, c.alpha, c.h, std::asin(0.1));
     c.median_abs_plane_error_deg = quantile(plane, 0.5);

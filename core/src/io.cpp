@@ -25,6 +25,14 @@ std::string format_number(double v) {
   return buf;
 }
 
+// The mark of a computed non-finite cell: a control character no number or name contains.
+constexpr char not_finite_mark = '\x01';
+
+std::string format_cell(double v) {
+  if (std::isfinite(v) || is_missing(v)) return format_number(v);
+  return not_finite_mark + format_number(v);
+}
+
 std::string format_list(const std::vector<double>& v) {
   std::string s;
   for (double x : v) s += (s.empty() ? "" : ",") + format_number(x);
@@ -153,16 +161,23 @@ void AtomicFile::commit() {
 
 TsvWriter::TsvWriter(const fs::path& path, const std::string& program, const Params& params,
                      std::vector<std::string> columns)
-    : file_(path), ncols_(columns.size()) {
+    : file_(path), name_(path.filename().string()), columns_(std::move(columns)) {
   std::FILE* f = file_.handle();
   std::fprintf(f, "# program: %s\n# git: %s\n", program.c_str(), git_revision());
   for (const auto& [k, v] : params) std::fprintf(f, "# %s: %s\n", k.c_str(), v.c_str());
-  write_row(columns);
+  write_row(columns_);
+  rows_ = 0;
 }
 
 void TsvWriter::write_row(const std::vector<std::string>& cells) {
-  require(cells.size() == ncols_, "TsvWriter: row has " + std::to_string(cells.size()) + " cells, expected " +
-                                      std::to_string(ncols_));
+  require(cells.size() == columns_.size(), "TsvWriter: row has " + std::to_string(cells.size()) +
+                                              " cells, expected " + std::to_string(columns_.size()));
+  ++rows_;
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    if (!cells[i].empty() && cells[i][0] == not_finite_mark)
+      throw NumericalFailure::in_output(name_ + ", row " + std::to_string(rows_) + ", column " + columns_[i],
+                                        "the value computed from these parameters is " + cells[i].substr(1) +
+                                            " (beyond double precision, or undefined), which a table does not hold");
   std::FILE* f = file_.handle();
   for (size_t i = 0; i < cells.size(); ++i) {
     std::fputs(cells[i].c_str(), f);

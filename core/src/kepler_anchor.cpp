@@ -19,7 +19,7 @@ namespace geomint {
 
 namespace {
 
-constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr double nan = missing_value;
 const double two_pi = boost::math::constants::two_pi<double>();
 const double pi = boost::math::constants::pi<double>();
 using State = std::array<double, 4>;  // (q1, q2, q1', q2')

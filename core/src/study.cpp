@@ -33,8 +33,10 @@ OrderFit fit_order(const std::vector<double>& h, const std::vector<double>& err,
 }
 
 std::vector<double> observed_orders(const std::vector<double>& h, const std::vector<double>& err) {
-  std::vector<double> out(h.size(), std::nan(""));
-  for (size_t i = 1; i < h.size(); ++i) out[i] = std::log(err[i - 1] / err[i]) / std::log(h[i - 1] / h[i]);
+  std::vector<double> out(h.size(), missing_value);
+  // an error of 0 (a run exact to the last bit, or a zero solution) has no order: it stays missing
+  for (size_t i = 1; i < h.size(); ++i)
+    if (err[i - 1] != 0 && err[i] != 0) out[i] = std::log(err[i - 1] / err[i]) / std::log(h[i - 1] / h[i]);
   return out;
 }
 
@@ -113,7 +115,7 @@ void fit_series(ConvergenceSeries& s) {
 
 namespace {
 struct Point {
-  double err = std::nan("");
+  double err = missing_value;
   std::string failure;
 };
 }  // namespace

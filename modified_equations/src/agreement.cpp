@@ -84,11 +84,18 @@ ModifiedSolution modified_solution(const std::string& scheme, double alpha, doub
       {q0, v0, 0.0}, times, tol);
   ModifiedSolution s;
   s.t = times;
-  for (const auto& x : xs) {
+  for (std::size_t j = 0; j < xs.size(); ++j) {
+    const auto& x = xs[j];
     s.q.push_back(x[0]);
     s.v.push_back(x[1]);
     s.z.push_back(x[2]);
     s.p.push_back(momentum_map(scheme, alpha, h_eq, sign, x[0], x[1], x[2]));
+    // an overflow (a damping of 1e200) is a failure here, where it happens, not an inf error further on
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]) || !std::isfinite(s.p.back()))
+      throw NumericalFailure(static_cast<long>(j), "modified solution",
+                             "the solution of the " + std::string(h_eq == 0 ? "original" : "modified") +
+                                 " equation or its momentum is not finite at t = " + show(times[j]) + " (scheme " +
+                                 scheme + ", alpha = " + show(alpha) + ", h = " + show(h) + ")");
   }
   return s;
 }
@@ -108,7 +115,7 @@ Agreement agreement(const std::string& scheme, double alpha, double h, double T,
     a.err_z_modified = std::max(a.err_z_modified, std::abs(disc.z[j] - mod.z[j]));
     a.err_z_original = std::max(a.err_z_original, std::abs(disc.z[j] - orig.z[j]));
   }
-  if (scheme == "la") a.err_z_modified = a.err_z_original = std::nan("");
+  if (scheme == "la") a.err_z_modified = a.err_z_original = missing_value;
   return a;
 }
 

@@ -1,3 +1,4 @@
+#include "geomint/error.hpp"
 #include "geomint/modified/all_orders.hpp"
 
 #include <algorithm>
@@ -45,7 +46,7 @@ AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha) 
 }
 
 double all_orders_deviation(const AllOrders& m, const std::vector<double>& t, const std::vector<double>& q) {
-  if (!m.valid || q.size() < 2) return std::nan("");
+  if (!m.valid || q.size() < 2) return missing_value;
   const double h = t[1] - t[0];
   const double A = linear_oscillator_solution(m.a, m.b, 1.0, 0.0, h).q;
   const double B = linear_oscillator_solution(m.a, m.b, 0.0, 1.0, h).q;

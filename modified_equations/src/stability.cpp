@@ -70,7 +70,7 @@ LinearMapClass classify_linear_map(const std::vector<long double>& ML, const std
   else
     out.region = Region::faithful;
   const double det = Mm.determinant(), tr = Cm.trace();
-  out.decay_ratio = det > 0 && tr != 0 ? std::log(det) / (h * tr) : std::nan("");
+  out.decay_ratio = det > 0 && tr != 0 ? std::log(det) / (h * tr) : missing_value;
   // oscillating modes, sorted by frequency: the discrete ones by arg(mu) / h, the continuous by Im(lambda)
   std::vector<double> wd, wc;
   for (int i = 0; i < N; ++i) {
@@ -79,7 +79,7 @@ LinearMapClass classify_linear_map(const std::vector<long double>& ML, const std
   }
   std::sort(wd.begin(), wd.end());
   std::sort(wc.begin(), wc.end());
-  out.freq_low = out.freq_high = std::nan("");
+  out.freq_low = out.freq_high = missing_value;
   if (!wd.empty() && wd.size() == wc.size()) {
     out.freq_low = wd.front() / wc.front();
     out.freq_high = wd.back() / wc.back();

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "geomint/error.hpp"
 #include "geomint/observers.hpp"
 #include "geomint/systems/foucault.hpp"
 
@@ -52,7 +53,7 @@ struct FoucaultSummary {
   // (at extrema of a damped linear oscillator the energy ratio is exactly e^{-alpha dt}).
   double max_energy_loss = 0;
   double t_max_energy_loss = 0;
-  double rate = std::numeric_limits<double>::quiet_NaN();  // least-squares d(angle)/dt, rad/s
+  double rate = missing_value;  // least-squares d(angle)/dt, rad/s
   int rate_points = 0;
   long turns = 0;
 };
@@ -127,7 +128,7 @@ class FoucaultDiagnostics {
  private:
   void add_turn(const FoucaultStep<T>& st, double t, double r, double E) {
     const double x = static_cast<double>(st.q(0)), y = static_cast<double>(st.q(1));
-    double a = std::atan2(y, x), jump = std::nan("");
+    double a = std::atan2(y, x), jump = missing_value;
     if (!turns.empty()) {
       const double prev = turns.back().angle;
       a = line_angle(x, y, prev);

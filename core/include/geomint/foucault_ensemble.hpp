@@ -41,6 +41,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "geomint/error.hpp"
 #include "geomint/observers.hpp"
 #include "geomint/simd.hpp"
 #include "geomint/stats.hpp"
@@ -51,33 +52,33 @@ namespace geomint {
 // One half-swing, turning point to turning point, and its landing near the origin.
 struct FoucaultJump {
   long j_prev_turn = -1, j_land = -1, j_turn = -1;  // previous turning point, landing q_L, this turning point
-  double t_land = std::numeric_limits<double>::quiet_NaN();
-  double t_turn = std::numeric_limits<double>::quiet_NaN();
-  double r_land = std::numeric_limits<double>::quiet_NaN();  // |q_L|, m
-  double r_prev = std::numeric_limits<double>::quiet_NaN();  // |q_{L-1}|, m
-  double rho = std::numeric_limits<double>::quiet_NaN();     // |q_L| / |q_{L+1} - q_L|
+  double t_land = missing_value;
+  double t_turn = missing_value;
+  double r_land = missing_value;  // |q_L|, m
+  double r_prev = missing_value;  // |q_{L-1}|, m
+  double rho = missing_value;     // |q_L| / |q_{L+1} - q_L|
   int side = 0;  // +1: q_L lands before the origin (q_{L-1}.q_L > 0), -1: after it (sigma above)
-  double measured = std::numeric_limits<double>::quiet_NaN();   // plane turn minus exact -s dt, rad (signed)
-  double predicted = std::numeric_limits<double>::quiet_NaN();  // kappa_L + s h (foucault), 0 (foucault-rotation), rad
-  double simple = std::numeric_limits<double>::quiet_NaN();     // atan(s h / rho), rad (unsigned; small kicks only)
-  double energy_loss = std::numeric_limits<double>::quiet_NaN();  // 1 - E_k / E_{k-1} e^{alpha dt}
+  double measured = missing_value;   // plane turn minus exact -s dt, rad (signed)
+  double predicted = missing_value;  // kappa_L + s h (foucault), 0 (foucault-rotation), rad
+  double simple = missing_value;     // atan(s h / rho), rad (unsigned; small kicks only)
+  double energy_loss = missing_value;  // 1 - E_k / E_{k-1} e^{alpha dt}
 };
 
 // kappa_L + s h of the paper's constraint (see above), rad; NaN without a landing.
 double predicted_jump(double s, double h, double qm_x, double qm_y, double q_x, double q_y);
 
 struct AnomalySummary {
-  double E0 = std::numeric_limits<double>::quiet_NaN();     // energy of the consistent start
-  double E_end = std::numeric_limits<double>::quiet_NaN();  // chord energy E_{N-1/2}
-  double t_end = std::numeric_limits<double>::quiet_NaN();  // (N - 1/2) h
-  double energy_ratio_end = std::numeric_limits<double>::quiet_NaN();  // E_end / (E0 e^{-alpha t_end})
+  double E0 = missing_value;     // energy of the consistent start
+  double E_end = missing_value;  // chord energy E_{N-1/2}
+  double t_end = missing_value;  // (N - 1/2) h
+  double energy_ratio_end = missing_value;  // E_end / (E0 e^{-alpha t_end})
   // plane angle at the last turning point minus the exact phi0 - s t there, modulo pi, rad
-  double plane_error = std::numeric_limits<double>::quiet_NaN();
-  double t_plane = std::numeric_limits<double>::quiet_NaN();
+  double plane_error = missing_value;
+  double t_plane = missing_value;
   long half_swings = 0;  // completed half-swings (turning point to turning point)
   FoucaultJump max;      // the half-swing with the largest |measured| (measured NaN if none)
   double min_rho = std::numeric_limits<double>::infinity();  // closest landing of the run, in steps
-  double t_min_rho = std::numeric_limits<double>::quiet_NaN();
+  double t_min_rho = missing_value;
 };
 
 // The landing of a half-swing is the q_L with the largest |q_{L-1}| / |q_L|, i.e. the largest one-step kick
@@ -219,8 +220,8 @@ struct AnomalyRun {
   AnomalyCase c;
   std::string status = "ok";  // or the NumericalFailure / error message: a failed run stays a row
   long steps = 0;
-  double phi0 = std::numeric_limits<double>::quiet_NaN();  // exact plane angle at the run's t = 0
-  double energy_ratio_exact = std::numeric_limits<double>::quiet_NaN();  // E_end / E_closed_form(t_end)
+  double phi0 = missing_value;  // exact plane angle at the run's t = 0
+  double energy_ratio_exact = missing_value;  // E_end / E_closed_form(t_end)
   AnomalySummary summary;
   std::vector<FoucaultJump> jumps;
 };
@@ -286,9 +287,9 @@ struct AnomalyCell {
   double p_energy_loss = 0;             // share of ok runs with energy_ratio_end < 0.99
   Interval p_energy_loss_ci;            // its 95 % Clopper–Pearson interval
   double p_energy_predicted = 0;        // predicted: a jump with sin^2 > 0.01 (kappa > 5.74 deg)
-  double median_abs_plane_error_deg = std::numeric_limits<double>::quiet_NaN();
-  double p90_abs_plane_error_deg = std::numeric_limits<double>::quiet_NaN();
-  double max_jump_deg = std::numeric_limits<double>::quiet_NaN();
+  double median_abs_plane_error_deg = missing_value;
+  double p90_abs_plane_error_deg = missing_value;
+  double max_jump_deg = missing_value;
 };
 // record_threshold: the one the runs were made with (rad), to know which mean counts are complete.
 std::vector<AnomalyCell> summarize_anomaly(const systems::FoucaultPendulum& base, const std::vector<AnomalyRun>& runs,

@@ -19,6 +19,9 @@ const char* git_revision();
 using Params = std::vector<std::pair<std::string, std::string>>;
 
 std::string format_number(double v);  // shortest round-trip form, "nan" for NaN
+// A number as a table cell: format_number, where a nan that is not missing_value, or an inf, is marked so that
+// TsvWriter::write_row refuses the row (a table holds no value computed as nan or inf, see missing_value).
+std::string format_cell(double v);
 std::string format_list(const std::vector<double>& v);
 // "a b c" (or "a, b, c" with sep ", "): a list of names for an output header or a message.
 std::string join_names(const std::vector<std::string>& names, const char* sep = " ");
@@ -79,17 +82,21 @@ class TsvWriter {
     std::vector<std::string> cells{cell(values)...};
     write_row(cells);
   }
+  // Cells of numbers come from format_cell: a row with a computed nan or inf is a numerical failure naming the
+  // file, the row and the column, and the run's outputs stay as they were.
   void write_row(const std::vector<std::string>& cells);
   void commit() { file_.commit(); }
 
  private:
   static std::string cell(const std::string& s) { return s; }
   static std::string cell(const char* s) { return s; }
-  static std::string cell(double v) { return format_number(v); }
+  static std::string cell(double v) { return format_cell(v); }
   static std::string cell(int v) { return std::to_string(v); }
   static std::string cell(long v) { return std::to_string(v); }
   AtomicFile file_;
-  std::size_t ncols_;
+  std::string name_;
+  std::vector<std::string> columns_;
+  long rows_ = 0;
 };
 
 }  // namespace geomint

@@ -45,7 +45,7 @@
 namespace geomint {
 
 struct OscillatorStructure {
-  static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  static constexpr double nan = missing_value;
   double decay_rate = nan;  // fitted -d log Q / dt
   double frequency = nan;   // fitted d theta / dt
   double phase_end = nan;   // theta(t_end) - theta(0) - omega t_end, rad (unwrapped)
@@ -117,7 +117,7 @@ class OscillatorProbe {
     const double E = (qs * qs + ps * ps) / 2;
     if (boundaries_ > 0) {
       const double r = std::abs(E_last_ - E - work) / E_last_;
-      balance_ = (std::isnan(r) || std::isnan(balance_)) ? std::nan("") : std::max(balance_, r);
+      balance_ = (std::isnan(r) || std::isnan(balance_)) ? missing_value : std::max(balance_, r);
     }
     E_last_ = E;
     ++boundaries_;

@@ -5,10 +5,12 @@
 #include <limits>
 #include <vector>
 
+#include "geomint/error.hpp"
+
 namespace geomint {
 
 struct Interval {
-  double lo = std::numeric_limits<double>::quiet_NaN(), hi = std::numeric_limits<double>::quiet_NaN();
+  double lo = missing_value, hi = missing_value;
 };
 
 // The two-sided Clopper–Pearson interval for p from `successes` in `trials` (Boost.Math's binomial
@@ -19,7 +21,7 @@ Interval clopper_pearson(long successes, long trials, double confidence = 0.95);
 // Mean of the finite values and its standard error s / sqrt(n) (s: sample standard deviation); NaN with
 // fewer than two values.
 struct MeanSe {
-  double mean = std::numeric_limits<double>::quiet_NaN(), se = std::numeric_limits<double>::quiet_NaN();
+  double mean = missing_value, se = missing_value;
   std::size_t n = 0;
 };
 MeanSe mean_se(const std::vector<double>& values);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "geomint/error.hpp"
 #include "geomint/registry.hpp"
 
 namespace geomint {
@@ -13,8 +14,8 @@ namespace geomint {
 class Sweep;
 
 struct OrderFit {
-  double slope = std::numeric_limits<double>::quiet_NaN();
-  double intercept = std::numeric_limits<double>::quiet_NaN();
+  double slope = missing_value;
+  double intercept = missing_value;
   int points = 0;  // points used after dropping non-finite and round-off ones
 };
 
@@ -44,10 +45,10 @@ std::vector<double> halving_sequence(double h0, double h_min);
 struct AsymptoticOrder {
   enum class Status { asymptotic, pre_asymptotic, too_few_points };
   Status status = Status::too_few_points;
-  double slope = std::numeric_limits<double>::quiet_NaN();
+  double slope = missing_value;
   int points = 0;                                             // points in the range
-  double h_max = std::numeric_limits<double>::quiet_NaN();    // the range's largest and smallest h
-  double h_min = std::numeric_limits<double>::quiet_NaN();
+  double h_max = missing_value;    // the range's largest and smallest h
+  double h_min = missing_value;
   std::vector<double> local_orders;                           // of the usable points, coarse to fine
   bool asymptotic() const { return status == Status::asymptotic; }
   // One line for a report: "order 1.00 over h = 0.0125 ... 0.00156 (4 points)" or "pre-asymptotic: local orders

@@ -20,7 +20,7 @@
 namespace geomint {
 
 struct WorkPoint {
-  static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  static constexpr double nan = missing_value;
   std::string method;   // a scheme (as asked) or a baseline ("odeint-dopri5", ...)
   std::string family;   // "geometric" (a scheme), "rk" (a fixed-step baseline), "adaptive" (a tolerance)
   std::string knob;     // "h" or "tol"

@@ -24,7 +24,7 @@ std::string show_vec(const VectorXd& x) {
 // The smallest singular value is below `rel` times the largest (or the largest is not positive, or not finite).
 bool singular(const MatrixXd& A, double rel, double& smin, double& smax) {
   if (!A.allFinite()) {
-    smin = smax = std::nan("");
+    smin = smax = missing_value;
     return true;
   }
   const Eigen::JacobiSVD<MatrixXd> svd(A);

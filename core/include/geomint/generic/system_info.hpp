@@ -46,7 +46,7 @@ Sys make_system(const ParamValues& values) {
 
 template <class Sys>
 double horizon_of(const Sys& sys) {
-  double T = std::nan("");
+  double T = missing_value;
   Sys copy = sys;
   copy.visit([&](const char* field, double& x, const char*) {
     if (std::string(field) == "T") T = x;
@@ -91,8 +91,8 @@ void drive(const Sys& sys, double h, long N, Path path, Observer&& observe) {
       // A closed form has no Newton to fail: an overflow (a damping of 1e308) is caught here, where it happens,
       // instead of reaching a table as nan.
       sys.template run_fast<C>(h, N, [&](const auto& view) {
-        if (!view.q.allFinite() || !view.p.allFinite())
-          throw NumericalFailure(view.j, "state", "the closed form's q or p is not finite");
+        if (!view.q.allFinite() || !view.p.allFinite() || !std::isfinite(view.z))
+          throw NumericalFailure(view.j, "state", "the closed form's q, p or z is not finite");
         observe(view, -1);
       });
       return;

@@ -743,7 +743,7 @@ struct Foucault : FoucaultPendulum, PaperConstraint<Foucault> {
     using std::isfinite;
     Vec2<T> qn;
     T lambda1;
-    const T nan = std::numeric_limits<T>::quiet_NaN();
+    const T nan = T(missing_value);  // no residual: a closed form solves nothing
     for (long j = j0; j < j1; ++j) {
       C::step(p, qm, q, h, qn, lambda1, j);
       if (!isfinite(qn(0)) || !isfinite(qn(1))) throw state_failure(j);

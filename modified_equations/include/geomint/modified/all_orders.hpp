@@ -9,15 +9,17 @@
 
 #include <string>
 
+#include "geomint/error.hpp"
+
 namespace geomint::modified {
 
 struct AllOrders {
-  double a = std::nan("");      // modified damping coefficient (q'' + a q' + b q = 0)
-  double b = std::nan("");      // modified stiffness
-  double tr = std::nan(""), det = std::nan("");
+  double a = missing_value;      // modified damping coefficient (q'' + a q' + b q = 0)
+  double b = missing_value;      // modified stiffness
+  double tr = missing_value, det = missing_value;
   bool oscillating = false;     // complex eigenvalues
   bool valid = false;           // false when an eigenvalue is <= 0 (no continuous flow samples it)
-  double spectral_radius = std::nan("");
+  double spectral_radius = missing_value;
 };
 
 // Computed in long double: a_h = -ln(det)/h and b_h lose about log10(1/h) digits to cancellation, which

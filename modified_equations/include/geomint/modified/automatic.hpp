@@ -43,6 +43,7 @@
 
 #include <Eigen/LU>
 
+#include "geomint/error.hpp"
 #include "geomint/generic/schemes.hpp"
 #include "geomint/modified/series.hpp"
 
@@ -83,7 +84,7 @@ struct ModifiedCoefficients {
   // c[m] = sum_i c_coef[m][i] h^i (m <= K + 2, i <= K); the same for z~.
   std::array<std::array<Vec<C, n>, Kmax + 1>, Kmax + 3> c{};
   std::array<std::array<C, Kmax + 1>, Kmax + 3> d{};
-  double residual = std::numeric_limits<double>::quiet_NaN();  // set by check (numbers only)
+  double residual = missing_value;  // set by check (numbers only)
   bool stopped = false;  // the deadline passed before order K (formulas): K is the order reached
 
   // Eigen's fixed-size vectors are not zeroed by value-initialization: every coefficient starts at 0 here.

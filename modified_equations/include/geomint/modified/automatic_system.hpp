@@ -22,7 +22,7 @@ namespace geomint::modified::detail {
 template <class Sys, class G>
 using Engine = ModifiedEquation<Sys, G, registry_max_order>;
 
-inline constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+inline constexpr double nan = missing_value;
 
 template <int n>
 Vec<double, n> to_vec(const std::vector<double>& x, const char* what) {
