@@ -200,9 +200,14 @@ int main(int argc, char** argv) {
       sys.validate(values_for(P));
       for (double m : ms) step_count(Tf / m, P * Tf);
     }
-    const auto dir = prepare_output_dir(cli.out);
+    // the closed form every error is measured against: refused before any output when it is not a number a
+    // relative error can divide by (beta = 1e308 overflows it, alpha omega = 1e300 squares to inf)
     const double k = 1 - omega * omega, C = beta / std::sqrt(k * k + alpha * alpha * omega * omega),
                  delta = std::atan2(alpha * omega, k);
+    require(std::isfinite(C) && C != 0,
+            "the steady-state amplitude beta / sqrt((1 - omega^2)^2 + alpha^2 omega^2) is " + show(C) +
+                " at these parameters; the errors are relative to it, so it must be finite and nonzero");
+    const auto dir = prepare_output_dir(cli.out);
 
     std::vector<WorkPoint> pts;
     const Study study{C, delta, reps};

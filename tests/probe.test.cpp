@@ -603,6 +603,9 @@ TEST_CASE("probe: a nan or inf computed from extreme inputs stops the run instea
     CHECK(!fs::exists(base / "o"));
     fs::remove_all(base);
   }
+  // the forced oscillator's closed-form amplitude, which every error divides by, overflows: refused as an input
+  // before any run (it gave a table of nan relative errors)
+  check_refused("long_horizon_forced", {"--periods", "4", "--beta", "1e308", "--alpha", "1e-3"}, "steady-state amplitude");
 }
 
 TEST_CASE("probe: a refusal that comes after the output folder was made leaves no folder behind", "[probe]") {
