@@ -41,14 +41,26 @@ struct Outcome {
   bool timed_out = false;
   std::string err;
   int lines() const { return static_cast<int>(std::count(err.begin(), err.end(), '\n')); }
-  // The lines of the program, without the warnings Open MPI's libevent may print as mpiexec tears a job down
-  // ("[warn] Epoll MOD(1) on fd ..."): what a one-line refusal under mpiexec is counted by.
+  // The lines of the program, without the launcher's own: what a one-line refusal under mpiexec is counted by.
   int program_lines() const {
     std::istringstream in(err);
     std::string line;
     int n = 0;
-    while (std::getline(in, line)) n += line.rfind("[warn] ", 0) != 0;
+    while (std::getline(in, line)) n += !launcher_line(line);
     return n;
+  }
+  // What mpiexec itself may print as it tears a job down, in the two forms Open MPI gives its own diagnostics:
+  // libevent's warnings ("[warn] Epoll MOD(1) on fd ...") and opal's reports prefixed "[<node>:<pid>] " (seen once
+  // in CI: mpiexec's own segfault in PMIx_server_finalize after the ranks had ended, a 16-line backtrace). A rank's
+  // line starts with its program's name, never with '['.
+  static bool launcher_line(const std::string& line) {
+    if (line.rfind("[warn] ", 0) == 0) return true;
+    if (line.empty() || line[0] != '[') return false;
+    const auto close = line.find("] ");
+    const auto colon = line.rfind(':', close);
+    if (close == std::string::npos || colon == std::string::npos || colon + 1 >= close) return false;
+    return std::all_of(line.begin() + static_cast<long>(colon) + 1, line.begin() + static_cast<long>(close),
+                       [](char c) { return c >= '0' && c <= '9'; });
   }
   std::string last_line() const {
     std::string e = err;
@@ -1014,6 +1026,12 @@ bool pending(pid_t pid, int sig) {
 }  // namespace
 
 TEST_CASE("probe (MPI): an interrupted run under mpiexec -n 2 leaves the old outputs, with one line", "[probe][mpi]") {
+  // the launcher's lines are told from the ranks' by their form (as CI once saw them)
+  CHECK(Outcome::launcher_line("[warn] Epoll MOD(1) on fd 27 failed. Old events were 6; read change was 0 (none)"));
+  CHECK(Outcome::launcher_line("[ci-runner:04711] *** Process received signal ***"));
+  CHECK(Outcome::launcher_line("[ci-runner:04711] [ 3] /lib/x86_64-linux-gnu/libpmix.so.2(PMIx_server_finalize+0x2e)"));
+  CHECK(!Outcome::launcher_line("modified_equation: interrupted by signal 15 (SIGTERM); the previous outputs are unchanged"));
+  CHECK(!Outcome::launcher_line("[1] 0.5 not a launcher line"));
   for (const auto& [program, ok] : mpi_programs) {
     const auto ref = fresh_dir("probe-mpi-new");  // the new run's tables, complete
     REQUIRE(spawn(program, plus(longer(split(ok)), {"--out", (ref / "out").string()}), ref).exit_code == 0);
@@ -1045,8 +1063,15 @@ TEST_CASE("probe (MPI): an interrupted run under mpiexec -n 2 leaves the old out
       INFO(program << " signal " << sig << " -> exit " << o.exit_code << ": " << o.err);
       if (sig) {
         CHECK(temporaries(out).empty());
-        CHECK(o.exit_code == 128 + sig);
-        CHECK(o.lines() == 1);
+        CHECK(!o.timed_out);
+        if (!o.exited && !o.timed_out) {
+          // mpiexec killed by a signal of its own making after the ranks ended (its teardown's crash, once in CI):
+          // the launcher's status is then not the ranks', so the ranks' outcome is read from their line and files
+          WARN("mpiexec itself ended by signal " << o.signal << " after the ranks: " << o.err);
+        } else {
+          CHECK(o.exit_code == 128 + sig);
+        }
+        CHECK(o.program_lines() == 1);
         CHECK(o.err.find("interrupted by signal " + std::to_string(sig) + " (") != std::string::npos);
         CHECK(o.err.find("the previous outputs are unchanged") != std::string::npos);
         CHECK(snapshot(out) == before);
@@ -1056,12 +1081,13 @@ TEST_CASE("probe (MPI): an interrupted run under mpiexec -n 2 leaves the old out
       // Through mpiexec: it resumes the ranks, may send SIGTERM, and kills what still runs a second later
       // (odls_base_sigkill_timeout): rank 0 ends interrupted (old outputs), finished (new ones) or killed (its
       // staging folder left, for the next run to heal). Its libevent may warn as it tears the job down
-      // ("[warn] Epoll MOD(1) on fd ..."), and it may drop a rank's last line. What must hold: never a mix, a line
-      // that is there tells which, and a killed run is healed by the next.
+      // ("[warn] Epoll MOD(1) on fd ..."), crash in its own teardown (Outcome::launcher_line), and it may drop a
+      // rank's last line. What must hold: never a mix, a line that is there tells which, and a killed run is healed
+      // by the next.
       std::istringstream in(o.err);
       std::string line, ours;
       while (std::getline(in, line))
-        if (line.rfind("[warn] ", 0) != 0) ours += line + "\n";
+        if (!Outcome::launcher_line(line)) ours += line + "\n";
       INFO("lines of the program: " << ours);
       CHECK(o.exit_code != 0);
       CHECK(std::count(ours.begin(), ours.end(), '\n') <= 1);
