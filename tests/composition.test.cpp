@@ -53,10 +53,14 @@ TEST_CASE("negative stages keep every stage's discrete constraint at round-off",
   for (const auto& comp : all_compositions()) {
     const SystemInfo& sys = find_system(comp.system);
     if (sys.constraints == 0) continue;
+    // the Foucault pendulum over 40 s, not its hour: five passes through the origin, where the discrete constraint
+    // is hardest (its chord is shortest); an hour adds 90 times the same steps (110 s of the sanitizer build's tests)
+    ParamValues pv = params_of(comp.system);
+    if (comp.system.rfind("foucault", 0) == 0) pv.push_back({"T", 40});
     for (const auto& base : comp.bases)
       for (const auto& fam : generic::composition_families()) {
         const std::string name = generic::composition_name(fam.name, base);
-        const Run run = sys.run(params_of(comp.system), name, 0.1, Path::generic, 1000000);
+        const Run run = sys.run(pv, name, 0.1, Path::generic, 1000000);
         INFO(comp.system << " " << name << ": max |Phi_d| over " << run.steps << " steps x " << fam.stages()
                          << " stages = " << run.max_phi_d);
         // as for the base schemes at h = 0.1 (tests/generic_systems.test.cpp: 2e-15, the terms of Phi_d are O(1)
@@ -64,7 +68,7 @@ TEST_CASE("negative stages keep every stage's discrete constraint at round-off",
         double w_min = 1;
         for (const long double w : fam.weights) w_min = std::min(w_min, std::abs(static_cast<double>(w)));
         CHECK(run.max_phi_d < 2e-15 / w_min);
-        CHECK(run.steps == step_count(0.1, sys.horizon(params_of(comp.system))));
+        CHECK(run.steps == step_count(0.1, sys.horizon(pv)));
       }
   }
 }
