@@ -64,14 +64,15 @@ TEST_CASE("a sweep records a blown-up run as a missing value and still completes
   // h = 2.5 over T = 5000 (2000 steps): contact is unstable beyond h = 2 and la beyond
   // h = alpha + sqrt(alpha^2 + 4) ~ 2.01, so both overflow before the end.
   const auto r = testing::run_program(
-      "convergence_oscillator", "--h-max 2.5 --h-min 2.5 --T 5000 --alpha 0.01 --schemes contact la --out " + dir.string());
+      "convergence", "--system oscillator --h-max 2.5 --h-min 2.5 --T 5000 --alpha 0.01 --schemes contact la --out " +
+                         dir.string());
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
-  std::ifstream in(dir / "convergence_oscillator.tsv");
+  std::ifstream in(dir / "oscillator_convergence.tsv");
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string tsv = ss.str();
-  CHECK(tsv.find("contact\t0.01\t2.5\t2000\tnan") != std::string::npos);
-  CHECK(tsv.find("la\t0.01\t2.5\t2000\tnan") != std::string::npos);
-  CHECK(std::filesystem::exists(dir / "convergence_oscillator.png"));
+  CHECK(tsv.find("oscillator\tcontact\t2.5\t2000\tnan") != std::string::npos);
+  CHECK(tsv.find("oscillator\tla\t2.5\t2000\tnan") != std::string::npos);
+  CHECK(std::filesystem::exists(dir / "oscillator_convergence.png"));
 }

@@ -477,9 +477,8 @@ TEST_CASE("probe: a sweep over the time budget is refused, and runs with --no-bu
   // 1e11 steps per run (the per-run limit) for each of several schemes: over the budget of 1e11 steps in all.
   const std::vector<std::string> over{"--system", "oscillator", "--h-max", "1e-4", "--h-min", "1e-4", "--T", "1e7"};
   check_refused("convergence", over, "exceed the time budget");
-  check_refused("convergence_oscillator", {"--h-max", "1e-4", "--h-min", "1e-4", "--T", "1e7"}, "exceed the time budget");
   // --no-budget lifts the time budget only: the per-run limit and the long stay
-  check_refused("convergence_oscillator", {"--h-max", "1e-5", "--h-min", "1e-5", "--T", "1e7", "--no-budget"},
+  check_refused("convergence", {"--system", "oscillator", "--h-max", "1e-5", "--h-min", "1e-5", "--T", "1e7", "--no-budget"},
                 "steps per run");
 }
 
@@ -490,8 +489,8 @@ TEST_CASE("probe: tolerances below a double's precision are refused", "[probe]")
 
 TEST_CASE("probe: degenerate data (a zero state) gives figures, not gnuplot errors", "[probe]") {
   for (const auto& args : {std::vector<std::string>{"fig1_oscillator", "--h", "0.1", "--T", "2", "--q0", "0", "--p0", "0"},
-                           std::vector<std::string>{"convergence_oscillator", "--h-max", "0.2", "--h-min", "0.1", "--T", "2",
-                                                    "--q0", "0", "--p0", "0"}}) {
+                           std::vector<std::string>{"convergence", "--system", "oscillator", "--h-max", "0.2", "--h-min",
+                                                    "0.1", "--T", "2", "--q0", "0", "--p0", "0"}}) {
     const auto base = fresh_dir("probe-degenerate");
     const auto o = spawn(args[0], plus({args.begin() + 1, args.end()}, {"--out", (base / "out").string()}), base);
     INFO(args[0] << " -> exit " << o.exit_code << ": " << o.err);

@@ -36,7 +36,6 @@ BASE = {
     "bench_symbolic": ["--max-order", "1", "--repeat", "1", "--systems", "pendulum"],
     "convergence": ["--h-min", "0.05"],
     "convergence_foucault": ["--T", "4", "--alpha", "0.1", "--h-min", "0.05"],
-    "convergence_oscillator": ["--h-min", "0.05"],
     "ensemble": ["--runs", "10", "--T", "2"],
     "fig1_oscillator": ["--T", "5"],
     "fig2_foucault": ["--T", "10", "--h", "0.1"],

@@ -28,10 +28,10 @@ const BadInput bad_inputs[] = {
     {"fig1_oscillator", "--T inf", "T must be a positive"},
     {"fig1_oscillator", "--bogus 1", "unrecognised option"},
     {"fig1_oscillator", "--h abc", "invalid"},
-    {"convergence_oscillator", "--h-max 0", "h_max must be a positive"},
-    {"convergence_oscillator", "--h-max 100", "exceeds the horizon"},
-    {"convergence_oscillator", "--alpha nan", "alpha must be a non-negative"},
-    {"convergence_oscillator", "--schemes nosuch", "unknown scheme"},
+    {"convergence", "--system oscillator --h-max 0", "h_max must be a positive"},
+    {"convergence", "--system oscillator --h-max 100", "exceeds the horizon"},
+    {"convergence", "--system oscillator --alpha nan", "alpha must be a non-negative"},
+    {"convergence", "--system oscillator --schemes nosuch", "unknown scheme"},
     {"backward_error", "--h-max 0", "h_max must be a positive"},
     {"backward_error", "--h-max 0.2 --h-min 0.3", "h_min must not exceed"},
     {"backward_error", "--alpha=-0.5", "alpha must be a non-negative"},
@@ -71,7 +71,7 @@ TEST_CASE("an unwritable output folder is refused", "[programs]") {
 }
 
 TEST_CASE("--help prints usage and exits 0", "[programs]") {
-  for (const char* p : {"fig1_oscillator", "convergence_oscillator", "backward_error", "work_precision", "stability_oscillator", "work_precision_foucault"}) {
+  for (const char* p : {"fig1_oscillator", "convergence", "backward_error", "work_precision", "stability_oscillator", "work_precision_foucault"}) {
     const auto r = run_program(p, "--help");
     INFO(p);
     CHECK(r.exit_code == 0);
