@@ -55,8 +55,7 @@ TEST_CASE("negative numbers are values, after a several-value option too", "[pro
   const auto r = run_program("modified_equation", "--system knife-edge --order 1 --q 0 0 -0.3 --v 1 0 -0.5 --out " + dir.string());
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
-  std::ifstream f(dir / "knife-edge_modified_equation.tsv");
-  const std::string text((std::istreambuf_iterator<char>(f)), {});
+  const std::string text = read_bytes(dir / "knife-edge_modified_equation.tsv");
   CHECK(text.find("# q: 0,0,-0.3\n") != std::string::npos);
   CHECK(text.find("# v: 1,0,-0.5\n") != std::string::npos);
   // a word that starts with '-' and is no option is a stray word, named

@@ -44,8 +44,7 @@ TEST_CASE("long-horizon programs give byte-identical error files for the same co
   }
   for (const char* f : {"long_horizon_oscillator.tsv", "long_horizon_foucault.tsv", "long_horizon_foucault_drift.tsv",
                         "long_horizon_forced.tsv"}) {
-    std::ifstream fa(a / f, std::ios::binary), fb(b / f, std::ios::binary);
-    const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
+    const std::string sa = read_bytes(a / f), sb = read_bytes(b / f);
     INFO(f);
     CHECK(!sa.empty());
     CHECK(sa == sb);

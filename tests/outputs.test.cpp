@@ -26,12 +26,9 @@
 namespace fs = std::filesystem;
 using namespace geomint;
 using geomint::testing::fresh_dir;
+using geomint::testing::read_bytes;
 
 namespace {
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
 std::size_t entries(const fs::path& d) {
   std::size_t n = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(d)) ++n;
@@ -61,12 +58,12 @@ TEST_CASE("a run's outputs stay staged until commit and replace the old ones tog
     b.commit();
   }
   // committed files are staged, the old ones untouched; a program reads its own new table back
-  CHECK(slurp(dir / "a.tsv") == "old a\n");
-  CHECK(slurp(output_path_for_reading(dir / "a.tsv")) == "new a\n");
+  CHECK(read_bytes(dir / "a.tsv") == "old a\n");
+  CHECK(read_bytes(output_path_for_reading(dir / "a.tsv")) == "new a\n");
   CHECK(fs::exists(run.staging()));
   run.commit();
-  CHECK(slurp(dir / "a.tsv") == "new a\n");
-  CHECK(slurp(dir / "b.tsv") == "new b\n");
+  CHECK(read_bytes(dir / "a.tsv") == "new a\n");
+  CHECK(read_bytes(dir / "b.tsv") == "new b\n");
   CHECK(entries(dir) == 2);  // no staging folder left
   CHECK(OutputRun::current() == nullptr);
 }
@@ -82,7 +79,7 @@ TEST_CASE("a discarded run leaves the old outputs and no temporary", "[outputs]"
     AtomicFile never(dir / "c.tsv");  // not committed: removed by its destructor
   }
   run.discard();
-  CHECK(slurp(dir / "a.tsv") == "old a\n");
+  CHECK(read_bytes(dir / "a.tsv") == "old a\n");
   CHECK(entries(dir) == 1);
 }
 
@@ -114,7 +111,7 @@ TEST_CASE("a table writes a missing value as nan and refuses a value computed as
     t.commit();
   }
   run.commit();
-  const std::string text = slurp(dir / "a.tsv");
+  const std::string text = read_bytes(dir / "a.tsv");
   CHECK(text.find("0.1\tnan\n0.2\tnan\n0.5\t1\n") != std::string::npos);
   CHECK(text.find("inf") == std::string::npos);
 }
@@ -151,8 +148,8 @@ TEST_CASE("a write error is an error, never a truncated file", "[outputs]") {
   run.discard();
   CHECK_THAT(outside, Catch::Contains("File too large") && Catch::Contains("previous file is unchanged"));
   CHECK_THAT(inside, Catch::Contains("File too large"));
-  CHECK(slurp(dir / "x.tsv") == "old\n");
-  CHECK(slurp(dir / "y.tsv") == "old\n");
+  CHECK(read_bytes(dir / "x.tsv") == "old\n");
+  CHECK(read_bytes(dir / "y.tsv") == "old\n");
   CHECK(entries(dir) == 2);  // no temporary, no staging folder, no lock
 }
 
@@ -165,9 +162,9 @@ TEST_CASE("a file written outside a run replaces a symlink in its place and neve
   CHECK(f.temp_path().filename().string().rfind(".geomint-tmp-", 0) == 0);  // a fresh name, created exclusively
   std::fputs("new\n", f.handle());
   f.commit();
-  CHECK(slurp(base / "victim.txt") == "victim\n");
+  CHECK(read_bytes(base / "victim.txt") == "victim\n");
   CHECK(!fs::is_symlink(base / "d" / "x.tsv"));
-  CHECK(slurp(base / "d" / "x.tsv") == "new\n");
+  CHECK(read_bytes(base / "d" / "x.tsv") == "new\n");
   CHECK(entries(base / "d") == 1);
 }
 
@@ -183,7 +180,7 @@ std::string stderr_of(const std::function<void()>& body) {
   body();
   dup2(saved, 2);
   close(saved);
-  return slurp(file);
+  return read_bytes(file);
 }
 }  // namespace
 
@@ -251,7 +248,7 @@ TEST_CASE("a killed run's staging folder is removed by the next run into the fol
   CHECK(std::count(note.begin(), note.end(), '\n') == 1);
   CHECK(entries(dir) == 3);  // a.tsv, this run's staging folder and lock
   OutputRun::current()->discard();
-  CHECK(slurp(dir / "a.tsv") == "old a\n");
+  CHECK(read_bytes(dir / "a.tsv") == "old a\n");
   CHECK(entries(dir) == 1);
 }
 
@@ -272,7 +269,7 @@ TEST_CASE("a figure gnuplot cannot draw is an error with gnuplot's message, the 
   auto f = small_figure();
   f.panels[0].setup = "set nosuchcommand";
   CHECK_THROWS_WITH(f.draw(dir / "fig"), Catch::Contains("gnuplot failed") && Catch::Contains("nosuchcommand"));
-  CHECK(slurp(dir / "fig.png") == "old");
+  CHECK(read_bytes(dir / "fig.png") == "old");
   CHECK(entries(dir) == 1);
 }
 
@@ -332,7 +329,7 @@ TEST_CASE("a commit that cannot move every file leaves the old outputs and no te
     f.commit();
   }
   CHECK_THROWS_WITH(run.commit(), Catch::Contains("previous outputs are unchanged"));
-  CHECK(slurp(dir / "a.tsv") == "old a\n");
+  CHECK(read_bytes(dir / "a.tsv") == "old a\n");
   CHECK(fs::is_directory(dir / "b.tsv" / "in-the-way"));
   CHECK(entries(dir) == 2);  // a.tsv and the folder: no staging folder
   CHECK(OutputRun::current() == nullptr);

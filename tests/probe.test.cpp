@@ -30,6 +30,7 @@
 
 namespace fs = std::filesystem;
 using geomint::testing::fresh_dir;
+using geomint::testing::read_bytes;
 
 namespace {
 
@@ -223,8 +224,7 @@ std::map<std::string, std::string> snapshot(const fs::path& dir) {
       m[rel + "/"] = "";
       continue;
     }
-    std::ifstream f(it->path(), std::ios::binary);
-    m[rel] = std::string((std::istreambuf_iterator<char>(f)), {});
+    m[rel] = read_bytes(it->path());
   }
   return m;
 }
@@ -418,9 +418,7 @@ TEST_CASE("probe: a blow-up inside a sweep is a missing value, and the sweep goe
     bool nan = false;
     for (const auto& e : fs::directory_iterator(out))
       if (e.path().extension() == ".tsv") {
-        std::ifstream f(e.path());
-        const std::string s((std::istreambuf_iterator<char>(f)), {});
-        nan = nan || s.find("\tnan") != std::string::npos;
+        nan = nan || read_bytes(e.path()).find("\tnan") != std::string::npos;
       }
     CHECK(nan);
     fs::remove_all(base);
@@ -680,16 +678,12 @@ TEST_CASE("probe: a signal ignored when the program starts (nohup) stays ignored
 }
 
 namespace {
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
 }  // namespace
 
 TEST_CASE("probe: no program carries a test hook, and the old one's variable does nothing", "[probe]") {
   // Fault injection lives in a library only the probe preloads: no program binary names a fault variable.
   for (const auto& p : programs()) {
-    const std::string bytes = slurp(fs::path(GEOMINT_BIN_DIR) / p);
+    const std::string bytes = read_bytes(fs::path(GEOMINT_BIN_DIR) / p);
     INFO(p);
     CHECK(bytes.size() > 10000);
     CHECK(bytes.find("GEOMINT_FAULT") == std::string::npos);
@@ -738,7 +732,7 @@ TEST_CASE("probe: a second run into a busy output folder refuses at once and cha
   INFO("first run -> exit " << o.exit_code << ": " << o.err);
   CHECK(o.exit_code == 0);
   CHECK(o.err.empty());
-  CHECK(slurp(out / "fig1_oscillator.tsv").find("# T: 3\n") != std::string::npos);
+  CHECK(read_bytes(out / "fig1_oscillator.tsv").find("# T: 3\n") != std::string::npos);
   CHECK(temporaries(out).empty());
   fs::remove_all(base);
 }
@@ -900,16 +894,16 @@ TEST_CASE("probe: symlinks planted in the output folder are never followed", "[p
   CHECK(refused.lines() == 1);
   CHECK(refused.err.find("cannot lock output folder") != std::string::npos);
   CHECK(snapshot(out) == before);
-  CHECK(slurp(base / "victim.txt") == "victim\n");
+  CHECK(read_bytes(base / "victim.txt") == "victim\n");
   fs::remove(out / ".geomint-lock");
   // in an output's place: the output replaces the link, the file it pointed to stays
   fs::create_symlink("../victim.txt", out / "fig1_oscillator_summary.tsv");
   const auto o = spawn("fig1_oscillator", plus(old_args, {"--out", out.string()}), base);
   INFO("exit " << o.exit_code << ": " << o.err);
   CHECK(o.exit_code == 0);
-  CHECK(slurp(base / "victim.txt") == "victim\n");
+  CHECK(read_bytes(base / "victim.txt") == "victim\n");
   CHECK(!fs::is_symlink(out / "fig1_oscillator_summary.tsv"));
-  CHECK(slurp(out / "fig1_oscillator_summary.tsv").rfind("# program: fig1_oscillator\n", 0) == 0);
+  CHECK(read_bytes(out / "fig1_oscillator_summary.tsv").rfind("# program: fig1_oscillator\n", 0) == 0);
   CHECK(temporaries(out).empty());
   fs::remove_all(base);
 }
@@ -983,7 +977,7 @@ TEST_CASE("probe (MPI): only rank 0 writes, through its staging folder: planted 
     INFO(program << " -> exit " << o.exit_code << ": " << o.err);
     CHECK(o.exit_code == 0);
     CHECK(o.err.empty());
-    CHECK(slurp(base / "victim.txt") == "victim\n");
+    CHECK(read_bytes(base / "victim.txt") == "victim\n");
     CHECK(tables(files_of(out, "")) == tables(snapshot(one)));  // the single-process tables, byte for byte
     for (const auto& [name, bytes] : planted) {
       INFO(name);
@@ -1012,10 +1006,10 @@ pid_t read_pid(const fs::path& pidfile) {
 
 // /proc/<pid>/status: is the process stopped, has it `sig` pending?
 bool stopped(pid_t pid) {
-  return slurp("/proc/" + std::to_string(pid) + "/status").find("State:\tT") != std::string::npos;
+  return read_bytes("/proc/" + std::to_string(pid) + "/status").find("State:\tT") != std::string::npos;
 }
 bool pending(pid_t pid, int sig) {
-  const std::string st = slurp("/proc/" + std::to_string(pid) + "/status");
+  const std::string st = read_bytes("/proc/" + std::to_string(pid) + "/status");
   for (const char* field : {"SigPnd:\t", "ShdPnd:\t"}) {
     const auto p = st.find(field);
     if (p != std::string::npos && (std::stoull(st.substr(p + std::strlen(field)), nullptr, 16) >> (sig - 1)) & 1) return true;

@@ -22,18 +22,13 @@ using namespace geomint::testing;
 
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
-
 // Every data file of `a` exists in `b` with the same bytes; returns how many were compared.
 int compare_tsvs(const std::filesystem::path& a, const std::filesystem::path& b) {
   int n = 0;
   for (const auto& e : std::filesystem::directory_iterator(a)) {
     if (e.path().extension() != ".tsv") continue;
     INFO(e.path().filename());
-    const std::string sa = slurp(e.path()), sb = slurp(b / e.path().filename());
+    const std::string sa = read_bytes(e.path()), sb = read_bytes(b / e.path().filename());
     CHECK(!sa.empty());
     CHECK(sa == sb);
     ++n;
@@ -115,7 +110,7 @@ TEST_CASE("the progress line stays off stderr unless stderr is a terminal", "[sw
     const std::string cmd = "script -qec '" + std::string(GEOMINT_BIN_DIR) + "/anomaly_foucault " + args +
                             " > /dev/null' /dev/null > " + (dir / "tty.txt").string() + " 2>&1";
     REQUIRE(std::system(cmd.c_str()) == 0);
-    const std::string tty = slurp(dir / "tty.txt");
+    const std::string tty = read_bytes(dir / "tty.txt");
     INFO(tty);
     CHECK(tty.find("anomaly_foucault: 24/24 runs (100%)") != std::string::npos);
     CHECK(tty.find("left") != std::string::npos);
@@ -154,7 +149,7 @@ TEST_CASE("sweep programs under mpiexec -n 2 write byte-identical files", "[swee
     const std::string cmd = env + GEOMINT_MPIEXEC + " -n 2 " + GEOMINT_BIN_DIR + "/" + c.program + " " + c.args +
                             " --out " + two.string() + " > " + (dir / "mpi.txt").string() + " 2>&1";
     const int status = std::system(cmd.c_str());
-    INFO(c.program << ": " << slurp(dir / "mpi.txt"));
+    INFO(c.program << ": " << read_bytes(dir / "mpi.txt"));
     REQUIRE(status == 0);
     CHECK(compare_tsvs(one, two) == c.files);
     // only rank 0 writes: one run, committed, no staging folder of another rank left behind

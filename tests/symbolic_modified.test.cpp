@@ -286,15 +286,10 @@ TEST_CASE("modified_equation --formulas: text and LaTeX next to an unchanged tab
   const auto r = geomint::testing::run_program("modified_equation", "--schemes la contact --order 3 --formulas --out " + with.string());
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
-  auto slurp = [](const std::filesystem::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
+  using geomint::testing::read_bytes;
   // the numeric table is the same file with or without the formulas
-  CHECK(slurp(plain / "modified_equation.tsv") == slurp(with / "modified_equation.tsv"));
-  const std::string txt = slurp(with / "modified_equation_formulas.txt"), tex = slurp(with / "modified_equation_formulas.tex");
+  CHECK(read_bytes(plain / "modified_equation.tsv") == read_bytes(with / "modified_equation.tsv"));
+  const std::string txt = read_bytes(with / "modified_equation_formulas.txt"), tex = read_bytes(with / "modified_equation_formulas.tex");
   CHECK(txt.rfind("# program: modified_equation\n# git: ", 0) == 0);
   CHECK(tex.rfind("% program: modified_equation\n% git: ", 0) == 0);
   CHECK(txt.find("# symbols: h z q qdot alpha\n") != std::string::npos);
