@@ -149,7 +149,7 @@ py::dict ensemble(const System& s, const std::string& scheme, const py::dict& pe
     out = run_ensemble(sys, spec, 0, runs, threads == 0 ? default_threads() : threads);
   }
   const long n = sys.dof, P = static_cast<long>(spec.perturb.size());
-  const double nan = std::nan("");
+  const double nan = missing_value;  // a failed run has no final state (numpy shows nan)
   std::vector<double> values, q, v, z, e0, e, phi_d, newton;
   std::vector<std::string> failure, names;
   for (const auto& p : spec.perturb) names.push_back(p.name);
@@ -251,7 +251,7 @@ py::dict convergence(const System& s, const std::vector<std::string>& schemes_as
         try {
           e = sys.max_error(pv, schemes[i], h, p, ref);
         } catch (const NumericalFailure& f) {  // a missing value, as in the program; the message is kept
-          e = std::nan("");
+          e = missing_value;
           if (failures[i].empty()) failures[i] = f.what();
         }
         errs[i].push_back(e);
