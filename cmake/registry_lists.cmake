@@ -60,6 +60,14 @@ function(geomint_generated_units)
   endif()
 endfunction()
 
+# Units whose speed no figure or benchmark measures, compiled at -O1 in the release build (CI's time is a budget):
+# the numeric modified equations (a derivation at a point, or a right-hand side Odeint calls; their
+# KnifeEdge unit compiles in 35 s instead of 46 s) and the tests (their time is spent in the library). -O1 and
+# -O3 give the same bits here: no fast-math, no contraction (-ffp-contract=off), Eigen's vectorization explicit.
+function(geomint_light_unit)
+  set_property(SOURCE ${ARGN} APPEND PROPERTY COMPILE_OPTIONS $<$<CONFIG:Release>:-O1>)
+endfunction()
+
 # geomint_unpack("a:b:c" X Y Z): X = a, Y = b, Z = c in the caller's scope (an item of the lists above).
 macro(geomint_unpack item)
   string(REPLACE ":" ";" _geomint_parts "${item}")
