@@ -130,8 +130,18 @@ int guarded_main(const std::string& program, const std::function<int()>& body) {
   auto discard = [] {
     if (OutputRun* r = OutputRun::current()) r->discard();
   };
+  // The outcome is final once it is decided and said: an interrupt after it (Open MPI ending this rank because
+  // another exited first with the agreed status) must not add a second line about the same run. The line and the
+  // settling happen with interrupts held, so one arriving in between is acted on after, silently.
+  auto settle = [](int status, const std::string& line = {}) {
+    interrupts_after_outcome(status, [&] {
+      if (!line.empty()) print_line(line);
+    });
+    return status;
+  };
   // A rank that fails alone under MPI ends the others (which would otherwise wait for it forever).
-  auto fail = [](int status) {
+  auto fail = [&](int status, const std::string& line = {}) {
+    settle(status, line);
     Sweep::abort_all(status);
     return status;
   };
@@ -143,24 +153,23 @@ int guarded_main(const std::string& program, const std::function<int()>& body) {
       else
         r->discard();
     }
-    return status == 0 ? 0 : fail(status);
+    return status == 0 ? settle(0) : fail(status);
   } catch (const OtherRankDone&) {
-    return 0;
+    return settle(0);
   } catch (const InputError& e) {
     discard();
     // Before MPI starts every rank is validating the same command line; after it (a sweep past
     // prepare_output_dir) an input error can be this rank's alone, unless it is the folder's agreed outcome.
     const bool agreed = dynamic_cast<const OutputFolderRefused*>(&e) != nullptr;
-    if (root || (!agreed && Sweep::started())) print_line(speaker() + ": error: " + one_line(e.what()));
-    return agreed ? 2 : fail(2);
+    const std::string line =
+        root || (!agreed && Sweep::started()) ? speaker() + ": error: " + one_line(e.what()) : std::string();
+    return agreed ? settle(2, line) : fail(2, line);
   } catch (const NumericalFailure& e) {
     discard();
-    print_line(speaker() + ": " + one_line(e.what()));
-    return fail(3);
+    return fail(3, speaker() + ": " + one_line(e.what()));
   } catch (const std::exception& e) {
     discard();
-    print_line(speaker() + ": error: " + one_line(e.what()));
-    return fail(1);
+    return fail(1, speaker() + ": error: " + one_line(e.what()));
   }
 }
 

@@ -43,6 +43,7 @@ volatile std::sig_atomic_t g_state = no_run;
 volatile std::sig_atomic_t g_holding = 0;  // lock taken, healing, commit or discard under way
 volatile std::sig_atomic_t g_pending = 0;  // an interrupt that arrived (on another thread) meanwhile
 volatile std::sig_atomic_t g_handling = 0;  // the handler is running (one line, even for two signals at once)
+volatile std::sig_atomic_t g_outcome = -1;  // the exit status of a run that has ended and reported (-1: running)
 int g_target_fd = -1, g_stage_fd = -1;
 volatile std::sig_atomic_t g_locked = 0;  // g_target_fd/.geomint-lock is ours
 char g_stage_name[64];
@@ -101,6 +102,7 @@ const char* signal_name(int sig) {
 }
 
 extern "C" void geomint_on_interrupt(int sig) {
+  if (g_outcome >= 0) ::_exit(g_outcome);
   if (g_holding) {  // the lock, healing, commit or discard finishes first; the interrupt is acted on after it
     g_pending = sig;
     return;
@@ -444,6 +446,12 @@ void handle_interrupts() {
     sa.sa_flags = 0;
     for (int s : taken) ::sigaction(s, &sa, nullptr);
   });
+}
+
+void interrupts_after_outcome(int status, const std::function<void()>& report) {
+  InterruptsHeld held;
+  if (report) report();
+  g_outcome = status < 0 ? 1 : status & 0xff;
 }
 
 void require_output_rank(const fs::path& what) {

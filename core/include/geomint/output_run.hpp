@@ -33,6 +33,7 @@
 //   Only SIGKILL (and a crash) needs the healing.
 // - MPI. Only rank 0 starts a run; the writers (AtomicFile, TsvWriter, Figure::draw) refuse on any other rank.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,13 @@ class OutputRun {
 // Makes every asynchronous terminating signal an interrupt (see above) for the rest of the process; idempotent.
 // guarded_main calls it on MPI rank 0 (the other ranks keep the default: they write nothing, and die silently).
 void handle_interrupts();
+
+// The run is over and has said so: its outputs are in their final state and its line (if any) is written. An
+// interrupt from now on (an MPI launcher ending the job because another rank already exited with this status, a
+// user's Ctrl-C during MPI_Finalize) has nothing to undo and nothing true to add: the process exits with `status`,
+// silently. `report` (the run's last line, if any) runs first, with interrupts held: one arriving while it writes
+// is acted on after it, as the silent exit. guarded_main calls it on every way out.
+void interrupts_after_outcome(int status, const std::function<void()>& report = {});
 
 // Throws std::logic_error unless this process is MPI rank 0 (or no MPI launcher started it): what every writer
 // checks before it creates anything.
