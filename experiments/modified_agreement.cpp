@@ -2,10 +2,10 @@
 // order K, for every order: max_j |q_j - q~_K(t_j)| must fall like h^(K+1) (like h^(K+2) for even K of a
 // symmetric second-order scheme, whose odd F_k vanish). K = 0 is the original equation.
 //   modified_agreement [--systems oscillator pendulum forced-oscillator] [--schemes la contact la-trapezoid]
-//                      [--orders 0 1 2 3 4] [--alpha 0.5] [--h-max (0.1 for K <= 1, 0.2 for K >= 2)] [--halvings 2] [--T 2]
-//                      [--tol 1e-13] [--threads <cores>] [--out out]
-// Discrete solutions: the generic Newton step in long double from each system's initial data (its default
-// parameters, with damping alpha). alpha = 0.5 by default: contact's odd-order terms are proportional to alpha
+//                      [--orders 0 1 2 3 4] [--h-max (0.1 for K <= 1, 0.2 for K >= 2)] [--halvings 2] [--tol 1e-13]
+//                      [--threads <cores>] [any parameter of the systems: --alpha 0.5 --T 2 --q0 ...] [--out out]
+// Discrete solutions: the generic Newton step in long double from each system's initial data (its parameters: the
+// ones given, else the presets alpha = 0.5 and T = 2, else its defaults). alpha = 0.5: contact's odd-order terms are proportional to alpha
 // (F_1 = -alpha^2 q'/2 on the oscillator), and at alpha = 0.1 they stay below the next even-order term over
 // this range of h, so the fitted slope there is K + 2 for even K (measured, docs/modified-equations.md). Modified solutions: Boost.Odeint dopri5 with dense output at tolerance tol, the right-hand side
 // sum_{k<=K} h^k F_k evaluated by the series engine at every stage, started consistently: q~(0) = q_0 and
@@ -33,6 +33,7 @@
 #include "geomint/registry.hpp"
 #include "geomint/study.hpp"
 #include "geomint/sweep.hpp"
+#include "geomint/system_cli.hpp"
 
 using namespace geomint;
 using namespace geomint::modified;
@@ -51,28 +52,27 @@ int main(int argc, char** argv) {
   return guarded_main("modified_agreement", [&] {
     std::vector<std::string> systems{"oscillator", "pendulum", "forced-oscillator"}, schemes{"la", "contact", "la-trapezoid"};
     std::vector<int> orders{0, 1, 2, 3, 4};
-    double T = 2, tol = 1e-13, alpha = 0.5;
+    double tol = 1e-13;
     std::vector<double> h_max;  // empty: 0.1 for K <= 1, 0.2 for K >= 2
     int halvings = 2;
     unsigned threads = default_threads();
     Cli cli("modified_agreement", "discrete solutions against their order-K automatic modified equations, K = 0..4");
-    cli.options.add_options()("systems", po::value(&systems)->multitoken()->default_value(systems, "oscillator pendulum forced-oscillator"), "systems")(
+    SystemsOptions sysopt(cli, argc, argv, systems, {{"alpha", 0.5}, {"T", 2}});
+    cli.options.add_options()(
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact la-trapezoid"), "schemes")(
         "orders", po::value(&orders)->multitoken()->default_value(orders, "0 1 2 3 4"), "orders K")(
-        "alpha", po::value(&alpha)->default_value(alpha), "damping alpha of every system")(
         "h-max", po::value(&h_max)->multitoken(), "largest step, per order (or one for all); default 0.1 for K <= 1, 0.2 for K >= 2")(
         "halvings", po::value(&halvings)->default_value(halvings), "number of halvings of h")(
-        "T", po::value(&T)->default_value(T), "horizon")(
         "threads", po::value(&threads)->default_value(threads), "worker threads (the files do not depend on them)")(
         "tol", po::value(&tol)->default_value(tol), "Odeint tolerance");
     if (!cli.parse(argc, argv)) return 0;
+    systems = sysopt.names();
     if (h_max.empty())
       for (int K : orders) h_max.push_back(K <= 1 ? 0.1 : 0.2);
     require(h_max.size() == 1 || h_max.size() == orders.size(), "give one --h-max, or one per order");
     for (double h : h_max) require_positive(h, "h-max");
     require(halvings >= 2 && halvings <= 8, "halvings must be in [2, 8]");
     require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
-    require_positive(T, "T");
     require(std::isfinite(tol) && tol >= 1e-15 && tol <= 1e-6, "tol must be in [1e-15, 1e-6]");
     auto steps_of = [&](std::size_t ki) {
       std::vector<double> hs;
@@ -84,25 +84,25 @@ int main(int argc, char** argv) {
       for (double h : steps_of(ki))
         // a planned step costs ~0.5 ms (the order-K modified equation solved by Odeint at tol 1e-13 along it;
         // measured: 2.35 s of CPU per 4410 planned steps, T = 2 -> 4 at the defaults): 1e4 cheap steps
-        plan_steps(static_cast<double>(systems.size() * schemes.size()) * static_cast<double>(step_count(h, T)),
-                   "the sweep (systems x schemes x T/h per order)", 1e4);
+        for (const auto& s : systems)
+          plan_steps(static_cast<double>(schemes.size()) * static_cast<double>(step_count(h, sysopt.value(s, "T"))),
+                     "the sweep (systems x schemes x T/h per order)", 1e4);
     for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
     for (const auto& s : systems) {
       const auto& info = find_system(s);
       require(info.constraints == 0, "system '" + s + "' is constrained: use nonholonomic_modified");
       for (const auto& x : schemes) modified_scheme(info, x);
     }
-    const ParamValues pv{{"alpha", alpha}};
-    for (const auto& s : systems) find_system(s).validate(pv);
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const double floor = 1e2 * tol;
     std::vector<double> order_values(orders.begin(), orders.end());
-    const Params params{{"systems", join_names(systems)}, {"schemes", join_names(schemes)},
-                        {"orders", format_list(order_values)}, {"alpha", format_number(alpha)}, {"h_max", format_list(h_max)},
+    Params params = sysopt.header();
+    params.insert(params.end(), {{"schemes", join_names(schemes)},
+                        {"orders", format_list(order_values)}, {"h_max", format_list(h_max)},
                         {"halvings", std::to_string(halvings)},
-                        {"T", format_number(T)}, {"tol", format_number(tol)}, {"fit_floor", format_number(floor)},
-                        {"discrete", "generic Newton step, long double, system defaults but alpha"},
-                        {"modified", "automatic (series through the residual), Odeint dopri5 dense, shooting start"}};
+                        {"tol", format_number(tol)}, {"fit_floor", format_number(floor)},
+                        {"discrete", "generic Newton step, long double, the parameters above, else the system's defaults"},
+                        {"modified", "automatic (series through the residual), Odeint dopri5 dense, shooting start"}});
     // Every (system, scheme, K, h) run is independent: under mpirun the runs are shared across ranks
     // and gathered on rank 0 in this order, so the files are the single-process ones byte for byte.
     struct Run {
@@ -136,7 +136,8 @@ int main(int argc, char** argv) {
             const auto& r = runs[item[first + k]];
             ModifiedAgreement a;
             try {
-              a = find_modified_system(r.system).agreement(pv, r.scheme, r.K, r.h, T, tol);
+              a = find_modified_system(r.system).agreement(sysopt.values(r.system), r.scheme, r.K, r.h,
+                                                           sysopt.value(r.system, "T"), tol);
             } catch (const NumericalFailure& e) {
               std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
               a.err_q = a.err_z = a.v_shift = missing_value;

@@ -18,6 +18,7 @@
 #include "geomint/io.hpp"
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/registry.hpp"
+#include "geomint/system_cli.hpp"
 
 using namespace geomint;
 using namespace geomint::modified;
@@ -29,16 +30,18 @@ int main(int argc, char** argv) {
     double seconds = 0.2;
     int reps = 5;
     Cli cli("modified_cost", "microseconds per evaluation of the automatic modified equation, against K and n");
-    cli.options.add_options()("systems", po::value(&systems)->multitoken()->default_value(systems, "pendulum knife-edge foucault-rotation"), "systems")(
+    SystemsOptions sysopt(cli, argc, argv, systems, {});
+    cli.options.add_options()(
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact la-trapezoid"), "schemes (skipped where not applicable)")(
         "orders", po::value(&orders)->multitoken()->default_value(orders, "0 1 2 3 4 5 6"), "orders K")(
         "seconds", po::value(&seconds)->default_value(seconds), "length of one timed loop")(
         "reps", po::value(&reps)->default_value(reps), "timed loops per cell (median)");
     if (!cli.parse(argc, argv)) return 0;
+    systems = sysopt.names();
     require(std::isfinite(seconds) && seconds > 0 && seconds <= 10, "seconds must be in (0, 10]");
     require(reps >= 1 && reps <= 100, "reps must be in [1, 100]");
     for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
-    for (const auto& s : systems) find_system(s);
+    for (const auto& s : systems) sysopt.values(s);
     // A scheme is skipped on a system it does not apply to, but a name no listed system knows is a typo.
     std::vector<std::string> known;
     for (const auto& s : systems)
@@ -52,13 +55,18 @@ int main(int argc, char** argv) {
                  "the timed loops (systems x schemes x orders x (reps + 1) x --seconds)");
     const auto dir = prepare_output_dir(cli.out);
     TsvWriter tsv(dir / "modified_cost_timings.tsv", "modified_cost",
-                  {{"seconds", format_number(seconds)}, {"reps", std::to_string(reps)}},
+                  [&] {
+                    Params params = sysopt.header();
+                    params.insert(params.end(), {{"seconds", format_number(seconds)}, {"reps", std::to_string(reps)}});
+                    return params;
+                  }(),
                   {"system", "n", "m", "scheme", "K", "us_per_evaluation"});
     std::printf("%-18s %-2s %-2s %-13s %-2s %12s\n", "system", "n", "m", "scheme", "K", "us/eval");
     for (const auto& s : systems) {
       const auto& info = find_system(s);
       const auto& ms = find_modified_system(s);
-      const auto run = info.run({}, info.schemes.front().name, 0.1, Path::generic, 1);
+      const ParamValues pv = sysopt.values(s);
+      const auto run = info.run(pv, info.schemes.front().name, 0.1, Path::generic, 1);
       std::vector<double> q(run.q.begin(), run.q.begin() + info.dof), v(run.v.begin(), run.v.begin() + info.dof);
       for (const auto& x : schemes) {
         if (std::find(ms.schemes.begin(), ms.schemes.end(), x) == ms.schemes.end()) continue;
@@ -69,7 +77,7 @@ int main(int argc, char** argv) {
             const auto t0 = std::chrono::steady_clock::now();
             double el = 0;
             do {
-              sink += ms.at({}, x, K, 0.0, q, v, 0.0, false).F.back();
+              sink += ms.at(pv, x, K, 0.0, q, v, 0.0, false).F.back();
               ++count;
               el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             } while (el < seconds);

@@ -2,10 +2,11 @@
 // modified equation of the constrained LA and contact schemes with the modified multiplier and the modified
 // constraint Phi_h = Phi_d(q~(t), q~(t+h)) on which the discrete solution lies.
 //   nonholonomic_modified [--systems knife-edge foucault-rotation] [--schemes la contact] [--orders 0 1 2 3]
-//                         [--alpha 0.1] [--h-max 0.2] [--halvings 2] [--T 2] [--tol 1e-13] [--radii 6] [--threads <cores>]
-//                         [--out out]
-// alpha (both systems' damping; the Foucault scene's default 1e-3 makes LA's odd-order terms, proportional to
-// alpha, too small to show over this range of h). Bigger runs: --orders 0 1 2 3 --halvings 3 --T 4.
+//                         [--h-max 0.2] [--halvings 2] [--tol 1e-13] [--radii 6] [--threads <cores>]
+//                         [any parameter of the systems: --alpha 0.1 --T 2 --x0 ...] [--out out]
+// Presets alpha = 0.1 (the systems' damping; the Foucault scene's default 1e-3 makes LA's odd-order terms,
+// proportional to alpha, too small to show over this range of h) and T = 2; every other parameter is the system's
+// default unless given. Bigger runs: --orders 0 1 2 3 --halvings 3 --T 4.
 // Part 1, agreement: each discrete solution (generic Newton step, long double) against the solution of its
 // order-K modified equation (Odeint dopri5, tol), started by shooting (q~(0) = q_0, q~(h) = q_1, which puts
 // the start on the modified constraint). Columns: err_modified = max_j |q_j - q~(t_j)|; err_mu =
@@ -13,7 +14,8 @@
 // max_j |Phi_d(q~(t_j), q~(t_{j+1}))| (the discrete constraint along the modified solution); phi_h0 =
 // |Phi_h^[K](x~(0))| and phi_h_drift = max_j |Phi_h^[K](x~(t_j)) - Phi_h^[K](x~(0))| (the truncated modified
 // constraint at the start and how far the modified flow moves it).
-// Part 2, the paper's constraint (13) near the origin, where its covector (-y, x) vanishes: the norms of
+// Part 2, when a Foucault pendulum is named (foucault or foucault-rotation), with its parameters: the paper's
+// constraint (13) near the origin, where its covector (-y, x) vanishes: the norms of
 // F_k and mu_k at q = (r, 0) with the consistent velocity (V, -Omega sin(beta) r), V the bob's speed through
 // the origin, for r = 0.1 down to 0.1^radii; and the power of r of each, fitted over the three smallest r.
 // Writes out/nonholonomic_modified.tsv, out/nonholonomic_modified_fits.tsv, out/nonholonomic_modified_origin.tsv,
@@ -31,6 +33,7 @@
 #include "geomint/plots/figure.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/study.hpp"
+#include "geomint/system_cli.hpp"
 
 using namespace geomint;
 using namespace geomint::modified;
@@ -39,23 +42,23 @@ int main(int argc, char** argv) {
   return guarded_main("nonholonomic_modified", [&] {
     std::vector<std::string> systems{"knife-edge", "foucault-rotation"}, schemes{"la", "contact"};
     std::vector<int> orders{1, 2, 3};
-    double h_max = 0.2, T = 2, tol = 1e-13, alpha = 0.1;
+    double h_max = 0.2, tol = 1e-13;
     int halvings = 2, radii = 6;
     unsigned threads = default_threads();
     Cli cli("nonholonomic_modified", "modified equations, multipliers and constraints of the nonholonomic integrators");
-    cli.options.add_options()("systems", po::value(&systems)->multitoken()->default_value(systems, "knife-edge foucault-rotation"), "constrained systems")(
+    SystemsOptions sysopt(cli, argc, argv, systems, {{"alpha", 0.1}, {"T", 2}}, "constrained systems");
+    cli.options.add_options()(
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"), "schemes")(
         "orders", po::value(&orders)->multitoken()->default_value(orders, "1 2 3"), "orders K")(
-        "alpha", po::value(&alpha)->default_value(alpha, format_number(alpha)), "damping of both systems")(
         "h-max", po::value(&h_max)->default_value(h_max, format_number(h_max)), "largest step")(
         "halvings", po::value(&halvings)->default_value(halvings), "number of halvings of h")(
-        "T", po::value(&T)->default_value(T), "horizon (s)")("tol", po::value(&tol)->default_value(tol), "Odeint tolerance")(
+        "tol", po::value(&tol)->default_value(tol), "Odeint tolerance")(
         "radii", po::value(&radii)->default_value(radii), "part 2: r = 0.1 ... 0.1^radii")(
         "threads", po::value(&threads)->default_value(threads), "worker threads (the files do not depend on them)");
     if (!cli.parse(argc, argv)) return 0;
+    systems = sysopt.names();
     require_positive(h_max, "h-max");
     require(halvings >= 2 && halvings <= 8, "halvings must be in [2, 8]");
-    require_positive(T, "T");
     require(std::isfinite(tol) && tol >= 1e-15 && tol <= 1e-6, "tol must be in [1e-15, 1e-6]");
     require(radii >= 3 && radii <= 12, "radii must be in [3, 12]");
     require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
@@ -71,18 +74,18 @@ int main(int argc, char** argv) {
     // modified equation with multiplier rows over the same grid: ~3 ms a planned step (measured: 2.5 s of CPU per
     // 840 planned steps, T = 2 -> 4 at the defaults), 5e4 cheap steps
     for (double h : hs)
-      plan_steps(static_cast<double>(systems.size() * schemes.size() * orders.size()) * static_cast<double>(step_count(h, T)),
-                 "the sweep (systems x schemes x orders x T/h)", 5e4);
-    const ParamValues pv{{"alpha", alpha}};
-    for (const auto& s : systems) find_system(s).validate(pv);
+      for (const auto& s : systems)
+        plan_steps(static_cast<double>(schemes.size() * orders.size()) * static_cast<double>(step_count(h, sysopt.value(s, "T"))),
+                   "the sweep (systems x schemes x orders x T/h)", 5e4);
     const auto dir = prepare_output_dir(cli.out);
     const double floor = 1e2 * tol;
     std::vector<double> order_values(orders.begin(), orders.end());
-    const Params params{{"systems", join_names(systems)}, {"schemes", join_names(schemes)},
-                        {"orders", format_list(order_values)}, {"alpha", format_number(alpha)}, {"h", format_list(hs)}, {"T", format_number(T)},
+    Params params = sysopt.header();
+    params.insert(params.end(), {{"schemes", join_names(schemes)},
+                        {"orders", format_list(order_values)}, {"h", format_list(hs)},
                         {"tol", format_number(tol)}, {"fit_floor", format_number(floor)}, {"radii", std::to_string(radii)},
-                        {"discrete", "generic Newton step, long double, system defaults"},
-                        {"modified", "automatic (series through the residual, with multiplier and constraint rows), Odeint dopri5 dense, shooting start"}};
+                        {"discrete", "generic Newton step, long double, the parameters above, else the system's defaults"},
+                        {"modified", "automatic (series through the residual, with multiplier and constraint rows), Odeint dopri5 dense, shooting start"}});
 
     // Part 1
     TsvWriter tsv(dir / "nonholonomic_modified.tsv", "nonholonomic_modified", params,
@@ -104,7 +107,7 @@ int main(int argc, char** argv) {
       const auto& r = runs[i];
       ModifiedAgreement a;
       try {
-        a = find_modified_system(r.system).agreement(pv, r.scheme, r.K, r.h, T, tol);
+        a = find_modified_system(r.system).agreement(sysopt.values(r.system), r.scheme, r.K, r.h, sysopt.value(r.system, "T"), tol);
       } catch (const NumericalFailure& e) {
         std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
         a.err_q = a.err_mu = a.phi_d = a.phi_h0 = a.phi_h_drift = missing_value;
@@ -165,17 +168,18 @@ int main(int argc, char** argv) {
     fits.commit();
     fig.draw(dir / "nonholonomic_modified");
 
-    // Part 2: the paper's constraint near the origin
-    const auto& fs = find_system("foucault");
+    // Part 2: the paper's constraint near the origin, in the scene of the Foucault pendulum named
+    std::string scene;
+    for (const auto& s : systems)
+      if (s == "foucault" || s == "foucault-rotation") {
+        scene = s;
+        break;
+      }
+    if (scene.empty()) return 0;
     const auto& fm = find_modified_system("foucault");
-    double pg = 0, pl = 1, px0 = 0, Omega = 0, beta = 0;
-    for (const auto& p : fs.params) {
-      if (p.name == "g") pg = p.value;
-      if (p.name == "l") pl = p.value;
-      if (p.name == "x0") px0 = p.value;
-      if (p.name == "Omega") Omega = p.value;
-      if (p.name == "beta") beta = p.value;
-    }
+    const ParamValues fpv = sysopt.values(scene);  // the same parameters: the two systems share their scene
+    const double pg = sysopt.value(scene, "g"), pl = sysopt.value(scene, "l"), px0 = sysopt.value(scene, "x0"),
+                 Omega = sysopt.value(scene, "Omega"), beta = sysopt.value(scene, "beta");
     const double s_ = Omega * std::sin(beta * M_PI / 180);
     const double V = px0 * std::sqrt(pg / pl);  // the bob's speed through the origin (undamped, to leading order)
     const int Ko = 4;
@@ -192,7 +196,7 @@ int main(int argc, char** argv) {
     for (const auto& x : schemes) {
       for (int k = 0; k <= Ko; ++k) rows.push_back({x, k, {}, {}});
       for (double r : rs) {
-        const auto P = fm.at({}, x, Ko, 0.0, {r, 0.0}, {V, -s_ * r}, 0.0, false);
+        const auto P = fm.at(fpv, x, Ko, 0.0, {r, 0.0}, {V, -s_ * r}, 0.0, false);
         for (int k = 0; k <= Ko; ++k) {
           const double nf = std::hypot(P.F_at(k, 0), P.F_at(k, 1)), nm = std::abs(P.mu[static_cast<std::size_t>(k)]);
           org.row("foucault", x, r, k, nf, nm);

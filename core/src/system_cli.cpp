@@ -1,5 +1,6 @@
 #include "geomint/system_cli.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 
@@ -146,6 +147,90 @@ std::vector<std::string> SystemOptions::schemes(const std::vector<std::string>& 
   if (asked.empty()) return system_->scheme_names();
   for (const auto& s : asked) system_->scheme(s);  // InputError naming the known ones
   return asked;
+}
+
+namespace {
+// The tokens after --systems in argv (or after --systems=), up to the next option; `fallback` when absent.
+std::vector<std::string> find_systems_arg(int argc, char** argv, const std::vector<std::string>& fallback) {
+  std::vector<std::string> names = fallback;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--systems") == 0) {
+      names.clear();
+      for (int k = i + 1; k < argc && std::strncmp(argv[k], "--", 2) != 0; ++k) names.push_back(argv[k]);
+    } else if (std::strncmp(argv[i], "--systems=", 10) == 0) {
+      names = {argv[i] + 10};
+    }
+  }
+  return names;
+}
+}  // namespace
+
+SystemsOptions::SystemsOptions(Cli& cli, int argc, char** argv, std::vector<std::string> default_systems,
+                               ParamValues presets, const std::string& systems_doc)
+    : presets_(std::move(presets)) {
+  // The options are those of the systems on this command line; an unknown name is refused here, before the parse
+  // would call its parameters unrecognised.
+  const auto named = find_systems_arg(argc, argv, default_systems);
+  std::vector<std::string> docs, owners;
+  for (const auto& name : named) {
+    const SystemInfo& sys = find_system(name);
+    for (const auto& p : sys.params) {
+      const auto it = std::find(params_.begin(), params_.end(), p.name);
+      if (it == params_.end()) {
+        params_.push_back(p.name);
+        docs.push_back(p.doc);
+        owners.push_back(name);
+      } else {
+        owners[static_cast<std::size_t>(it - params_.begin())] += ", " + name;
+      }
+    }
+  }
+  given_.resize(params_.size());
+  cli.options.add_options()("systems", po::value(&names_)->multitoken()->default_value(default_systems, join_names(default_systems, " ")),
+                            (systems_doc + " (" + join_names(system_names(), " ") + ")").c_str());
+  po::options_description sys_opts("Parameters of the systems (a value given goes to every system named that has the "
+                                   "parameter; otherwise each keeps its default, or the program's preset shown)");
+  for (std::size_t i = 0; i < params_.size(); ++i) {
+    std::string doc = docs[i] + " (" + owners[i];
+    for (const auto& [k, v] : presets_)
+      if (k == params_[i]) doc += "; preset " + format_number(v);
+    sys_opts.add_options()(params_[i].c_str(), po::value(&given_[i])->multitoken(), (doc + ")").c_str());
+  }
+  cli.options.add(sys_opts);
+}
+
+ParamValues SystemsOptions::values(const std::string& system) const {
+  const SystemInfo& sys = find_system(system);
+  ParamValues pv;
+  for (const auto& p : sys.params) {
+    const auto i = static_cast<std::size_t>(std::find(params_.begin(), params_.end(), p.name) - params_.begin());
+    if (i < params_.size() && !given_[i].empty()) {
+      require(given_[i].size() == 1, "--" + p.name + " takes one value");
+      pv.emplace_back(p.name, given_[i].front());
+      continue;
+    }
+    for (const auto& [k, v] : presets_)
+      if (k == p.name) pv.emplace_back(k, v);
+  }
+  sys.validate(pv);
+  return pv;
+}
+
+double SystemsOptions::value(const std::string& system, const std::string& param) const {
+  return param_value(values(system), find_system(system), param);
+}
+
+std::vector<std::pair<std::string, std::string>> SystemsOptions::header() const {
+  std::vector<std::pair<std::string, std::string>> out{{"systems", join_names(names_)}};
+  for (std::size_t i = 0; i < params_.size(); ++i) {
+    if (!given_[i].empty()) {
+      out.emplace_back(params_[i], format_list(given_[i]));
+      continue;
+    }
+    for (const auto& [k, v] : presets_)
+      if (k == params_[i]) out.emplace_back(k, format_number(v) + " (preset)");
+  }
+  return out;
 }
 
 double param_value(const ParamValues& pv, const SystemInfo& sys, const std::string& name) {

@@ -37,6 +37,33 @@ class SystemOptions {
   bool sweep_;
 };
 
+// Command lines of the programs that take several systems (--systems a b ...): every parameter of any of them is an
+// option of its own, and a value given goes to each listed system that has a parameter of that name. Where none is
+// given a system keeps its own default, unless the program has a preset for that parameter (a value its study
+// needs, e.g. a damping large enough to show odd-order terms), which --help states.
+class SystemsOptions {
+ public:
+  // Reads --systems from argv (before the full parse, which needs their parameter lists) and adds --systems plus
+  // one option per parameter of the union to cli. `presets`: the program's values where none is given.
+  SystemsOptions(Cli& cli, int argc, char** argv, std::vector<std::string> default_systems, ParamValues presets,
+                 const std::string& systems_doc = "systems");
+
+  // After cli.parse: the systems named (each found in the registry).
+  const std::vector<std::string>& names() const { return names_; }
+  // The values of `system`'s parameters that were given or preset (the rest are its defaults), validated.
+  ParamValues values(const std::string& system) const;
+  // The value the system runs with: given, preset, or its own default.
+  double value(const std::string& system, const std::string& param) const;
+  // Header lines: the systems, and every parameter given or preset with its value.
+  std::vector<std::pair<std::string, std::string>> header() const;
+
+ private:
+  std::vector<std::string> names_;
+  std::vector<std::string> params_;          // the union, in first-seen order
+  std::vector<std::vector<double>> given_;   // per parameter of the union
+  ParamValues presets_;
+};
+
 // The value of a swept parameter in a combination.
 double param_value(const ParamValues& pv, const SystemInfo& sys, const std::string& name);
 
