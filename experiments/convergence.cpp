@@ -1,10 +1,14 @@
 // Convergence of every scheme built from a system (or those named), against the system's reference: the
 // closed form where it has one, else Boost.Odeint on the equations derived from its Lagrangian.
 //   convergence --system pendulum [--schemes la contact ...] [--h-max 0.1] [--h-min 0.003] [--path fast|generic]
-//               [--reference auto|exact|odeint|odeint-rhs] [--tol 1e-13] [--alpha 0.05 0.1 ...: a sweep]
-// err_max = max_j |q_j - q_ref(t_j)| (max norm over the components), h halving from h-max to <= h-min.
+//               [--reference auto|exact|odeint|odeint-rhs] [--tol 1e-13] [--norm max|2] [--alpha 0.05 0.1 ...: a sweep]
+// err_max = max_j |q_j - q_ref(t_j)| (max norm over the components, or with --norm 2 the Euclidean length), h halving
+// from h-max to <= h-min; a system that declares measures (the Foucault pendulum's energy, plane and precession
+// errors) gets a column for each.
 // Writes out/<system>_convergence.tsv (one row per scheme, parameter combination and h), ..._fits.tsv
 // (least-squares order per scheme and combination) and ....{png,pdf} (a panel per combination).
+// The paper's settings are lines of the Makefile's FIGURE_COMMANDS (the oscillator's (7), (10); the Foucault
+// pendulum's (15), (18) against the multiplier ODE at T = 4 s and 32 s).
 // Under mpirun -n N the ranks share the (combination, scheme, h) runs; rank 0 writes the same files.
 #include <algorithm>
 #include <cmath>
@@ -29,14 +33,16 @@ int main(int argc, char** argv) {
     SystemOptions sysopt(cli, argc, argv, "pendulum", true);
     double h_max = 0.1, h_min = 0.003, tol = 1e-13;
     std::vector<std::string> names;
-    std::string path_name = "fast", ref_name = "auto";
+    std::string path_name = "fast", ref_name = "auto", norm_name = "max";
     cli.options.add_options()("h-max", po::value(&h_max)->default_value(h_max, "0.1"), "largest step")(
         "h-min", po::value(&h_min)->default_value(h_min, "0.003"), "halve until h <= h-min")(
         "schemes", po::value(&names)->multitoken(), "schemes (default: every scheme of the system)")(
         "path", po::value(&path_name)->default_value(path_name), "fast (closed forms where they exist) or generic")(
         "reference", po::value(&ref_name)->default_value(ref_name),
         "auto (closed form if any, else odeint), exact, odeint (equations from L by AD), odeint-rhs (hand-written)")(
-        "tol", po::value(&tol)->default_value(tol, "1e-13"), "Odeint tolerance of the reference");
+        "tol", po::value(&tol)->default_value(tol, "1e-13"), "Odeint tolerance of the reference")(
+        "norm", po::value(&norm_name)->default_value(norm_name),
+        "max (the largest component of q - q_ref) or 2 (its Euclidean length)");
     if (!cli.parse(argc, argv)) return 0;
     const SystemInfo& sys = sysopt.system();
     const auto combos = sysopt.combinations();
@@ -44,33 +50,38 @@ int main(int argc, char** argv) {
     const auto schemes = sysopt.schemes(names);
     const Path path = parse_path(path_name);
     const ReferenceKind ref_kind = parse_reference(ref_name);
+    const ErrorNorm norm = parse_norm(norm_name);
     check_reference(sys, ref_kind, tol);
     const auto hs = halving_sequence(h_max, h_min);
+    const double h_ref = reference_step(sys, hs);
     double cost = 0;  // of one step of every scheme, in cheap steps
     for (const auto& s : schemes) cost += step_cost(sys, s, path);
     for (const auto& pv : combos)
       for (double h : hs)
         plan_steps(static_cast<double>(step_count(h, sys.horizon(pv))), "the sweep (combinations x schemes x T/h)",
                    cost);
-    for (const auto& pv : combos) check_reference_memory(sys, ref_kind, step_count(hs.back(), sys.horizon(pv)));
+    for (const auto& pv : combos) check_reference_memory(sys, ref_kind, step_count(h_ref, sys.horizon(pv)));
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const std::string stem = sys.name + "_convergence";
 
     // The study (core/include/geomint/study.hpp): every (combination, scheme, h) run, shared by the ranks under
     // mpirun; rank 0 writes.
     const Sweep& sweep = Sweep::world();
-    const ConvergenceStudy study = convergence_study(sys, combos, schemes, hs, path, ref_kind, tol, sweep);
+    const ConvergenceStudy study = convergence_study(sys, combos, schemes, hs, path, ref_kind, tol, sweep, norm);
     if (!sweep.root()) return 0;
     const std::size_t S = schemes.size();
     const int width = name_width(schemes, 20);
     Params params = sysopt.header();
     params.insert(params.end(), {{"h", format_list(hs)}, {"path", to_string(path)}, {"reference", ref_name},
-                                 {"tol", format_number(tol)},
-                                 {"error", "max_j max_i |q_i(t_j) - q_ref,i(t_j)|"}});
+                                 {"tol", format_number(tol)}, {"norm", to_string(norm)},
+                                 {"error", norm == ErrorNorm::max ? "max_j max_i |q_i(t_j) - q_ref,i(t_j)|"
+                                                                  : "max_j |q(t_j) - q_ref(t_j)| (Euclidean)"}});
+    for (const auto& m : study.measures) params.push_back({m.name, m.doc});
     std::vector<std::string> cols{"system", "scheme"};
     cols.insert(cols.end(), swept.begin(), swept.end());
     std::vector<std::string> fit_cols = cols;
     cols.insert(cols.end(), {"h", "steps", "err_max", "order"});
+    for (const auto& m : study.measures) cols.push_back(m.name);
     fit_cols.insert(fit_cols.end(), {"fitted_order", "points", "expected_order"});
     TsvWriter tsv(dir / (stem + ".tsv"), "convergence", params, cols);
     TsvWriter fits(dir / (stem + "_fits.tsv"), "convergence", params, fit_cols);
@@ -91,6 +102,7 @@ int main(int argc, char** argv) {
           auto r = row;
           r.insert(r.end(), {format_cell(hs[i]), std::to_string(se.steps[i]), format_cell(se.err[i]),
                              format_cell(se.local_order[i])});
+          for (double x : se.measures[i]) r.push_back(format_cell(x));
           tsv.write_row(r);
         }
         auto r = row;

@@ -221,7 +221,7 @@ int main(int argc, char** argv) {
         dx[0] = x[1];
         dx[1] = -x[0] - alpha * x[1] + beta * std::sin(omega * t);
       };
-      const auto x0v = sys.ode_initial_state(pv);
+      const auto x0v = sys.ode_initial_state(pv, false);
       const State2 x0{x0v[0], x0v[1]};
       for (double m : ms) {
         const double h = Tf / m;

@@ -27,6 +27,8 @@
 #include "geomint/modified/formula_modified.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/study.hpp"
+#include "geomint/sweep.hpp"
+#include "geomint/work_precision.hpp"
 #include "geomint/timing.hpp"
 
 namespace py = pybind11;
@@ -224,109 +226,136 @@ std::vector<std::string> scheme_list(const SystemInfo& sys, const std::vector<st
   return asked;
 }
 
-// Errors against h (halving from h_max to <= h_min) for each scheme, observed and fitted orders: what the
-// convergence program computes (the same registry calls), as arrays.
+// Errors against h (halving from h_max to <= h_min) for each scheme, observed and fitted orders, and the measures the
+// system declares: the convergence program's study (convergence_study), as arrays.
 py::dict convergence(const System& s, const std::vector<std::string>& schemes_asked, double h_max, double h_min,
-                     const py::dict& params, const std::string& path, const std::string& ref_name, double tol) {
+                     const py::dict& params, const std::string& path, const std::string& ref_name, double tol,
+                     const std::string& norm) {
   const SystemInfo& sys = s.info();
   const ParamValues pv = param_values(params);
   const auto schemes = scheme_list(sys, schemes_asked);
   const Path p = parse_path(path);
   const ReferenceKind k = parse_reference(ref_name);
+  const ErrorNorm en = parse_norm(norm);
   check_reference(sys, k, tol);
   require_positive(h_max, "h_max");
   require_positive(h_min, "h_min");
   const auto hs = halving_sequence(h_max, h_min);
-  const double T = sys.horizon(pv);
-  std::vector<std::vector<double>> errs(schemes.size());
-  std::vector<std::string> failures(schemes.size());
-  std::string kind;
+  ConvergenceStudy study;
   {
     py::gil_scoped_release release;
-    const Reference ref = sys.reference(pv, hs.back(), step_count(hs.back(), T), k, tol);
-    kind = ref.kind;
-    for (std::size_t i = 0; i < schemes.size(); ++i)
-      for (double h : hs) {
-        double e;
-        try {
-          e = sys.max_error(pv, schemes[i], h, p, ref);
-        } catch (const NumericalFailure& f) {  // a missing value, as in the program; the message is kept
-          e = missing_value;
-          if (failures[i].empty()) failures[i] = f.what();
-        }
-        errs[i].push_back(e);
+    study = convergence_study(sys, {pv}, schemes, hs, p, k, tol, Sweep::world(), en);
+  }
+  const auto H = static_cast<long>(hs.size());
+  py::dict err, observed, fitted, asymptotic, expected, points, failed, measures;
+  for (const auto& m : study.measures) measures[py::str(m.name)] = py::dict();
+  for (const auto& se : study.series) {
+    const py::str name(se.scheme);
+    err[name] = to_array(se.err, H);
+    observed[name] = to_array(se.local_order, H);
+    fitted[name] = se.fit.slope;
+    asymptotic[name] = se.asymptotic.describe();
+    points[name] = se.fit.points;
+    expected[name] = se.expected_order;
+    for (const auto& f : se.failure)
+      if (!f.empty()) {  // the first failure, as the program reports it
+        failed[name] = f;
+        break;
       }
+    for (std::size_t i = 0; i < study.measures.size(); ++i) {
+      std::vector<double> values;
+      for (const auto& at_h : se.measures) values.push_back(at_h[i]);
+      measures[py::str(study.measures[i].name)][name] = to_array(values, H);
+    }
   }
   std::vector<long> steps;
-  for (double h : hs) steps.push_back(step_count(h, T));
-  py::dict err, observed, fitted, expected, points, failed;
-  for (std::size_t i = 0; i < schemes.size(); ++i) {
-    const auto fit = fit_order(hs, errs[i]);
-    err[py::str(schemes[i])] = to_array(errs[i], static_cast<long>(hs.size()));
-    observed[py::str(schemes[i])] = to_array(observed_orders(hs, errs[i]), static_cast<long>(hs.size()));
-    fitted[py::str(schemes[i])] = fit.slope;
-    points[py::str(schemes[i])] = fit.points;
-    expected[py::str(schemes[i])] = sys.scheme(schemes[i]).order;
-    if (!failures[i].empty()) failed[py::str(schemes[i])] = failures[i];
-  }
+  for (double h : hs) steps.push_back(step_count(h, sys.horizon(pv)));
   py::dict d;
-  d["h"] = to_array(hs, static_cast<long>(hs.size()));
+  d["h"] = to_array(hs, H);
   d["steps"] = to_int_array(steps);
   d["error"] = err;
   d["observed_order"] = observed;
   d["fitted_order"] = fitted;
+  d["asymptotic"] = asymptotic;
   d["points"] = points;
   d["expected_order"] = expected;
   d["failures"] = failed;
-  d["reference"] = kind;
+  d["measures"] = measures;
+  d["norm"] = to_string(en);
+  d["reference"] = study.reference;
   return d;
 }
 
-// Error and CPU seconds of one run against h, per scheme (the work–precision study's raw data).
+// Error and median CPU seconds of one run of each scheme against h, and of each baseline against h (rk4) or its
+// tolerance: the work_precision program's study (work_precision_study), as arrays.
 py::dict work_precision(const System& s, const std::vector<std::string>& schemes_asked, const std::vector<double>& hs,
-                        const py::dict& params, const std::string& path, int reps, const std::string& ref_name, double tol) {
+                        const py::dict& params, const std::string& path, int reps, const std::string& ref_name, double tol,
+                        const std::vector<std::string>& baselines, const std::vector<double>& tols,
+                        const std::string& equations, const std::string& adaptive_error) {
   const SystemInfo& sys = s.info();
   const ParamValues pv = param_values(params);
-  const auto schemes = scheme_list(sys, schemes_asked);
-  const Path p = parse_path(path);
-  const ReferenceKind k = parse_reference(ref_name);
-  check_reference(sys, k, tol);
-  require(!hs.empty(), "work_precision needs at least one h");
-  for (double h : hs) require_positive(h, "h");
-  require(reps >= 1, "reps must be a positive integer");
-  const double T = sys.horizon(pv);
-  double h_fine = hs.front();
-  for (double h : hs) h_fine = std::min(h_fine, h);
-  // the reference on the finest grid must hold every coarser one: each h a multiple of the finest
-  std::vector<std::vector<double>> errs(schemes.size()), secs(schemes.size());
-  std::string kind;
+  WorkPrecisionOptions opt;
+  opt.schemes = scheme_list(sys, schemes_asked);
+  opt.hs = hs;
+  opt.baselines = baselines;
+  opt.tols = tols;
+  opt.path = parse_path(path);
+  opt.reps = reps;
+  opt.reference = parse_reference(ref_name);
+  opt.reference_tol = tol;
+  require(equations == "ad" || equations == "rhs", "unknown equations '" + equations + "' (known: ad rhs)");
+  require(adaptive_error == "output" || adaptive_error == "steps",
+          "unknown adaptive error '" + adaptive_error + "' (known: output steps)");
+  opt.hand_written = equations == "rhs";
+  opt.at_steps = adaptive_error == "steps";
+  check_work_precision(sys, {pv}, opt);
+  WorkPrecisionStudy study;
   {
     py::gil_scoped_release release;
-    const Reference ref = sys.reference(pv, h_fine, step_count(h_fine, T), k, tol);
-    kind = ref.kind;
-    for (std::size_t i = 0; i < schemes.size(); ++i)
-      for (double h : hs) {
-        errs[i].push_back(sys.max_error(pv, schemes[i], h, p, ref));
-        secs[i].push_back(sys.time_run(pv, schemes[i], h, p, reps).median);
-      }
+    study = work_precision_study(sys, {pv}, opt);
   }
-  py::dict err, sec;
-  for (std::size_t i = 0; i < schemes.size(); ++i) {
-    err[py::str(schemes[i])] = to_array(errs[i], static_cast<long>(hs.size()));
-    sec[py::str(schemes[i])] = to_array(secs[i], static_cast<long>(hs.size()));
+  // per method, its points in the study's order (over h, or over tol)
+  std::vector<std::string> methods;
+  std::vector<std::vector<double>> value, error, seconds;
+  std::vector<std::string> knob;
+  for (const auto& pt : study.points) {
+    auto it = std::find(methods.begin(), methods.end(), pt.method);
+    if (it == methods.end()) {
+      methods.push_back(pt.method);
+      knob.push_back(pt.knob);
+      value.emplace_back();
+      error.emplace_back();
+      seconds.emplace_back();
+      it = methods.end() - 1;
+    }
+    const auto i = static_cast<std::size_t>(it - methods.begin());
+    value[i].push_back(pt.value);
+    error[i].push_back(pt.errors[0]);
+    seconds[i].push_back(pt.time.median);
+  }
+  py::dict err, sec, val, kn;
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    const py::str name(methods[i]);
+    const auto n = static_cast<long>(value[i].size());
+    err[name] = to_array(error[i], n);
+    sec[name] = to_array(seconds[i], n);
+    val[name] = to_array(value[i], n);
+    kn[name] = knob[i];
   }
   py::dict d;
   d["h"] = to_array(hs, static_cast<long>(hs.size()));
   d["error"] = err;
   d["seconds"] = sec;
-  d["reference"] = kind;
+  d["value"] = val;
+  d["knob"] = kn;
+  d["reference"] = study.reference;
   return d;
 }
 
 std::vector<double> point_or_initial(const System& s, const ParamValues& pv, const std::vector<double>& given, bool velocity) {
   if (!given.empty()) return given;
   // the initial data, from the continuous equations' consistent initial state (q, q')
-  const auto x = s.info().ode_initial_state(pv);
+  const auto x = s.info().ode_initial_state(pv, false);
   const auto n = static_cast<std::size_t>(s.info().dof);
   return velocity ? std::vector<double>(x.begin() + static_cast<long>(n), x.end()) : std::vector<double>(x.begin(), x.begin() + static_cast<long>(n));
 }
@@ -537,11 +566,39 @@ PYBIND11_MODULE(_geomint, m) {
               e["quadrature"] = sc.quadrature;
               e["order"] = sc.order;
               e["fast_path"] = sc.fast_path;
+              e["aliases"] = sc.aliases;
+              e["generic"] = sc.generic;
               d[py::str(sc.name)] = e;
             }
             return d;
           },
-          "{name: {principle, quadrature, order, fast_path}}: what runs when no scheme is named")
+          "{name: {principle, quadrature, order, fast_path, aliases, generic}}: what runs when no scheme is named "
+          "(fast_path: the closed form that runs it, '' if none; generic: it has a residual, so the Newton step runs it)")
+      .def_property_readonly(
+          "measures",
+          [](const System& s) {
+            py::dict d;
+            for (const auto& m : s.info().measures) d[py::str(m.name)] = m.doc;
+            return d;
+          },
+          "{name: doc}: what a convergence study measures on a run beyond the error in q (declared with the system)")
+      .def_property_readonly(
+          "expectations",
+          [](const System& s) {
+            const Expectations& x = s.info().expectations;
+            py::dict d, orders;
+            for (const auto& [scheme, k] : x.orders) orders[py::str(scheme)] = k;
+            py::dict params;
+            for (const auto& [k, v] : x.params) params[py::str(k)] = v;
+            d["params"] = params;
+            d["h_max"] = x.h_max;
+            d["halvings"] = x.halvings;
+            d["orders"] = orders;
+            d["order_tolerance"] = x.order_tolerance;
+            d["why"] = x.why;
+            return d;
+          },
+          "what the system's tests expect of it: {params, h_max, halvings, orders, order_tolerance, why}")
       .def_property_readonly(
           "compositions",
           [](const System& s) {
@@ -579,10 +636,15 @@ PYBIND11_MODULE(_geomint, m) {
            py::arg("params") = py::dict(), "the reference solution on t_j = j h (closed form, or Boost.Odeint)")
       .def("convergence", &convergence, py::arg("schemes") = std::vector<std::string>{}, py::arg("h_max") = 0.1,
            py::arg("h_min") = 0.003, py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reference") = "auto",
-           py::arg("tol") = 1e-13, "max_j |q_j - q_ref(t_j)| against h, observed and least-squares orders")
+           py::arg("tol") = 1e-13, py::arg("norm") = "max",
+           "max_j |q_j - q_ref(t_j)| against h (norm 'max' or '2'), observed, least-squares and asymptotic orders, and "
+           "the system's measures {name: {scheme: array}}")
       .def("work_precision", &work_precision, py::arg("schemes") = std::vector<std::string>{}, py::arg("h"),
            py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reps") = 3, py::arg("reference") = "auto",
-           py::arg("tol") = 1e-13, "error and median CPU seconds of one run, against h")
+           py::arg("tol") = 1e-13, py::arg("baselines") = std::vector<std::string>{},
+           py::arg("tols") = std::vector<double>{}, py::arg("equations") = "ad", py::arg("adaptive_error") = "output",
+           "error and median CPU seconds of one run, per method: the schemes against h, the baselines (odeint-rk4 over h; "
+           "odeint-dopri5, odeint-bulirsch-stoer, gsl-rk8pd over tols) as the work_precision program runs them")
       .def("modified_equation", &modified_equation, py::arg("scheme"), py::arg("order") = 4, py::arg("t") = 0.0,
            py::arg("q") = std::vector<double>{}, py::arg("v") = std::vector<double>{}, py::arg("z") = 0.0,
            py::arg("params") = py::dict(),

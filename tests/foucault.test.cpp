@@ -16,6 +16,7 @@
 #include "geomint/foucault_diagnostics.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
+#include "geomint/sweep.hpp"
 #include "helpers.hpp"
 #include "paper_restatements.hpp"
 
@@ -352,7 +353,7 @@ TEST_CASE("the closed form solves the Lagrange-d'Alembert equations and (13)", "
 TEST_CASE("fitted orders against the continuous reference", "[foucault][order]") {
   // Horizon T = 4 s: the first quarter swing, before the first pass through the origin (t = 4.105 s), so
   // no step lands near it (a close pass adds an O(h) plane kick that depends on where the grid falls; see
-  // convergence_foucault for T = 32 s). The reference is Odeint at tol 1e-12 (~1e-12 m here, far below the
+  // the convergence study for T = 32 s). The reference is Odeint at tol 1e-12 (~1e-12 m here, far below the
   // smallest error fitted, 2.4e-7 m).
   auto errors = [](const std::string& scheme, double alpha, const std::vector<double>& hs) {
     const auto sc = scene(alpha, 4);
@@ -387,10 +388,76 @@ TEST_CASE("fitted orders against the continuous reference", "[foucault][order]")
   }
   // Contact at alpha = 1e-3: the O(h) terms are ~ alpha^2 h (modified Lagrangian (11)) and ~ s h log(r0/r)
   // (the discrete plane lags where r shrinks), 1e-8 m at these h, far below the O(h^2) term: the error looks
-  // second order (measured 2.00) until h ~ 2e-3, where the slope bends to 1 (convergence_foucault). Tolerance 0.1.
+  // second order (measured 2.00) until h ~ 2e-3, where the slope bends to 1 (the convergence study). Tolerance 0.1.
   CHECK(fit_order(hs, errors("contact-nh", 1e-3, hs)).slope == Approx(2).margin(0.1));
   // Contact at alpha = 0.1: the alpha^2 h term dominates, first order (measured 0.98 over h <= 0.025).
   CHECK(fit_order(hs_small, errors("contact-nh", 0.1, hs_small)).slope == Approx(1).margin(0.05));
+}
+
+TEST_CASE("the convergence study's Foucault measures are the paper's closed forms measured by hand", "[foucault][order]") {
+  // The generic study (the registry's closed-form fast path, its hand-written-rhs reference on h_min/2, the
+  // measures the system declares) against the same quantities computed here from the closed forms (15), (18)
+  // and foucault_reference directly: the same bits, over two periods with its passes by the origin (T = 32 s).
+  const double alpha = 1e-3, T = 32;
+  const auto hs = halving_sequence(0.1, 0.025);
+  const SystemInfo& sys = find_system("foucault");
+  const ConvergenceStudy study = convergence_study(sys, {{{"alpha", alpha}, {"T", T}}}, {"la", "contact"}, hs, Path::fast,
+                                                   ReferenceKind::odeint_rhs, 1e-12, Sweep::world(), ErrorNorm::euclidean);
+  REQUIRE(study.measures.size() == 4);
+  CHECK(study.measures[0].name == "energy_err");
+  CHECK(study.measures[3].name == "min_r");
+  const auto sc = scene(alpha, T);
+  const FoucaultParams<double> p(sc);
+  const Vec2<double> q0(sc.x0, sc.y0), v0(sc.vx0, sc.vy0), v0c = consistent_velocity(p, q0, v0);
+  const double E0 = foucault_energy(p, q0, v0c), hr = hs.back() / 2;
+  std::vector<double> times;
+  for (long i = 0; i <= step_count(hr, T); ++i) times.push_back(static_cast<double>(i) * hr);
+  const auto ref = foucault_reference(sc, times, 1e-12);
+  int compared = 0;
+  for (const auto& series : study.series) {
+    for (std::size_t k = 0; k < hs.size(); ++k) {
+      const double h = hs[k];
+      const long stride = std::lround(h / hr);
+      double err = 0, energy = 0, plane = 0;
+      FoucaultRun by_hand;
+      generic::visit_closed_form<systems::Foucault>(series.scheme, [&](auto c) {
+        FoucaultDiagnostics<systems::Foucault, double> diag(p, h, step_count(h, T), step_count(h, T), q0, v0);
+        systems::run_closed_form<decltype(c)>(sc, p, q0, v0, h, step_count(h, T), FoucaultStart::legendre,
+                                              [&](const FoucaultStep<double>& st) {
+          diag(st);
+          const auto& rn = ref[static_cast<std::size_t>((st.j + 1) * stride)];
+          err = std::max(err, std::hypot(st.qn(0) - rn[0], st.qn(1) - rn[1]));
+          const auto& rh = ref[static_cast<std::size_t>(st.j * stride + stride / 2)];
+          const double Eref = foucault_energy<double>(p, Vec2<double>(rh[0], rh[1]), Vec2<double>(rh[2], rh[3]));
+          energy = std::max(energy, std::abs(chord_energy(p, st.q, st.qn, h) - Eref) / E0);
+          const auto& rj = ref[static_cast<std::size_t>(st.j * stride)];
+          if (std::hypot(rj[0], rj[1]) >= q0.norm() * std::exp(-alpha * st.t / 2) / 2)
+            plane = std::max(plane, std::abs(nearest_branch(std::atan2(st.q(1), st.q(0)) - std::atan2(rj[1], rj[0]), 0.0, foucault_pi)));
+        });
+        by_hand.summary = diag.summary();
+      });
+      INFO(series.scheme << " h = " << h);
+      CHECK(series.err[k] == err);
+      CHECK(series.measures[k][0] == energy);
+      CHECK(series.measures[k][1] == plane);
+      CHECK(series.measures[k][2] == std::abs(by_hand.summary.rate / -sc.s() - 1));
+      CHECK(series.measures[k][3] == by_hand.summary.min_r);
+      // a fitted rate, not a missing one: turning points come twice a period (16.4 s), 4 of them over T = 32 s,
+      // and the fit takes 3 at least
+      CHECK(by_hand.summary.rate_points >= 3);
+      CHECK(std::isfinite(series.measures[k][2]));
+      ++compared;
+    }
+  }
+  CHECK(compared == 6);
+  // and the max norm is what the study takes by default: no larger than the Euclidean length, and not equal to it
+  const ConvergenceStudy max_norm = convergence_study(sys, {{{"alpha", alpha}, {"T", T}}}, {"la"}, hs, Path::fast,
+                                                      ReferenceKind::odeint_rhs, 1e-12, Sweep::world());
+  for (std::size_t k = 0; k < hs.size(); ++k) {
+    CHECK(max_norm.series[0].err[k] <= study.series[0].err[k]);
+    CHECK(max_norm.series[0].err[k] > study.series[0].err[k] / std::sqrt(2.0) * (1 - 1e-12));
+    CHECK(max_norm.series[0].err[k] != study.series[0].err[k]);
+  }
 }
 
 TEST_CASE("a step at the origin is a NumericalFailure with the step index", "[foucault][failure]") {
@@ -439,11 +506,11 @@ const BadInput foucault_bad_inputs[] = {
     {"fig2_foucault", "--sample-dt 0", "sample-dt must be a positive"},
     {"fig2_foucault", "--T inf", "T must be a positive"},
     {"fig2_foucault", "--bogus 1", "unrecognised option"},
-    {"convergence_foucault", "--h-max 0", "h_max must be a positive"},
-    {"convergence_foucault", "--T 4.05", "not an integer"},
-    {"convergence_foucault", "--start x", "unknown start"},
-    {"convergence_foucault", "--tol 1", "tol must be in"},
-    {"convergence_foucault", "--schemes nosuch", "unknown scheme"},
+    {"convergence", "--system foucault --h-max 0", "h_max must be a positive"},
+    {"convergence", "--system foucault --T 4.05", "not an integer"},
+    {"convergence", "--system foucault --reference odeint-rhs --tol 1", "tol must be in"},
+    {"convergence", "--system foucault --schemes nosuch", "unknown scheme"},
+    {"convergence", "--system foucault --norm 3", "unknown norm '3'"},
 };
 
 }  // namespace
@@ -451,7 +518,7 @@ const BadInput foucault_bad_inputs[] = {
 TEST_CASE("Foucault programs reject bad input with one line, exit 2, and write nothing", "[foucault][programs]") {
   using namespace geomint::testing;
   for (const auto& b : foucault_bad_inputs) check_rejected(b.program, b.args, b.expect);
-  for (const char* p : {"fig2_foucault", "convergence_foucault"}) CHECK(run_program(p, "--help").exit_code == 0);
+  CHECK(run_program("fig2_foucault", "--help").exit_code == 0);
 }
 
 TEST_CASE("fig2_foucault writes the figure, its companion and tidy TSVs", "[foucault][programs]") {

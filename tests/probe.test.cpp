@@ -482,7 +482,8 @@ TEST_CASE("probe: a sweep over the time budget is refused, and runs with --no-bu
 
 TEST_CASE("probe: tolerances below a double's precision are refused", "[probe]") {
   check_refused("backward_error", {"--tol", "1e-20"}, "below the precision of a double");
-  check_refused("convergence_foucault", {"--tol", "1e-20"}, "below the precision of a double");
+  check_refused("convergence", {"--system", "foucault", "--reference", "odeint-rhs", "--tol", "1e-20"}, "tol must be in [1e-15, 1)");
+  check_refused("work_precision", {"--tol", "1e-20"}, "below the precision of a double");
 }
 
 TEST_CASE("probe: degenerate data (a zero state) gives figures, not gnuplot errors", "[probe]") {

@@ -35,7 +35,6 @@ BASE = {
     "bench_steps": ["--steps", "1000", "--reps", "3"],
     "bench_symbolic": ["--max-order", "1", "--repeat", "1", "--systems", "pendulum"],
     "convergence": ["--h-min", "0.05"],
-    "convergence_foucault": ["--T", "4", "--alpha", "0.1", "--h-min", "0.05"],
     "ensemble": ["--runs", "10", "--T", "2"],
     "fig1_oscillator": ["--T", "5"],
     "fig2_foucault": ["--T", "10", "--h", "0.1"],
@@ -51,13 +50,13 @@ BASE = {
     "regularized_error": ["--T", "10"],
     "stability_oscillator": ["--n", "10"],
     "work_precision": ["--reps", "1", "--h-min", "0.01"],
-    "work_precision_foucault": ["--reps", "3"],
 }
 # Google-benchmark programs whose every accepted run takes minutes: a shorter cap (still under 20 s)
 SHORT_CAP = {"bench_compose": 6, "bench_ensembles": 6}
 
 NON_NUMERIC = {"out", "system", "system-file", "scheme", "schemes", "path", "reference", "start", "constraint",
-               "constraints", "simd", "systems", "settings", "methods", "perturb", "omega_expr"}
+               "constraints", "simd", "systems", "settings", "methods", "perturb", "omega_expr", "norm", "baselines",
+               "equations", "adaptive-error"}
 FLAGS = {"help", "no-budget", "formulas"}
 NUM_VALUES = ["0", "-1", "nan", "inf", "-inf", "1e308", "1e-320", "4e-320", "2147483648", "1e15",
               "9999999999999999999", "", "abc", "1e3x"]
@@ -354,7 +353,7 @@ SPECIAL = [
     ("regularized_error", ["--T", "1e8"]),
     ("regularized_error", ["--T", "1e10"]),
     ("modified_cost", ["--seconds", "10", "--reps", "100"]),
-    ("convergence_foucault", ["--T", "1e7"]),
+    ("convergence", ["--system", "foucault", "--T", "1e7"]),
     ("backward_error", ["--T", "1e6"]),
     ("modified_agreement", ["--T", "1e7"]),
     ("nonholonomic_modified", ["--T", "1e8"]),

@@ -43,8 +43,13 @@ const BadInput bad_inputs[] = {
     {"stability_oscillator", "--h-min 0", "h-min must be a positive"},
     {"stability_oscillator", "--h-min 1 --h-max 0.5", "h-max must be finite and exceed"},
     {"stability_oscillator", "--schemes nosuch", "unknown scheme"},
-    {"work_precision_foucault", "--alpha=-1", "alpha"},
-    {"work_precision_foucault", "--reps 0", "reps must be in"},
+    {"work_precision", "--system foucault --alpha=-1", "alpha"},
+    {"work_precision", "--baselines nosuch", "unknown baseline 'nosuch'"},
+    {"work_precision", "--baselines gsl-rk8pd", "needs --adaptive-error steps"},
+    {"work_precision", "--system pendulum --adaptive-error steps", "needs a closed-form solution"},
+    // every header system writes its equations by hand; a system written as formulas has only those derived from L
+    {"work_precision", "--system-file " GEOMINT_SOURCE_DIR "/docs/systems/pendulum.geomint --equations rhs", "no hand-written rhs"},
+    {"work_precision", "--equations x", "unknown equations 'x'"},
 };
 
 }  // namespace
@@ -71,7 +76,7 @@ TEST_CASE("an unwritable output folder is refused", "[programs]") {
 }
 
 TEST_CASE("--help prints usage and exits 0", "[programs]") {
-  for (const char* p : {"fig1_oscillator", "convergence", "backward_error", "work_precision", "stability_oscillator", "work_precision_foucault"}) {
+  for (const char* p : {"fig1_oscillator", "convergence", "backward_error", "work_precision", "stability_oscillator"}) {
     const auto r = run_program(p, "--help");
     INFO(p);
     CHECK(r.exit_code == 0);

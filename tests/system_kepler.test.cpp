@@ -62,7 +62,7 @@ TEST_CASE("kepler: the perturbed flow keeps M(t) = M(0) exp(-alpha t - a/theta (
       if (name == "e") k.e = value;
     }
     const auto ode = info.ode(pv);
-    const auto x0v = info.ode_initial_state(pv);
+    const auto x0v = info.ode_initial_state(pv, false);
     std::array<double, 4> x0{x0v[0], x0v[1], x0v[2], x0v[3]};
     std::vector<double> times;
     for (int j = 0; j <= 400; ++j) times.push_back(0.1 * j);

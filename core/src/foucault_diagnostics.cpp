@@ -1,23 +1,7 @@
 #include "geomint/error.hpp"
 #include "geomint/foucault_diagnostics.hpp"
 
-#include <gsl/gsl_fit.h>
-
 namespace geomint {
-
-double fit_precession_rate(const std::vector<FoucaultTurn>& turns, int* points) {
-  std::vector<double> t, a;
-  for (const auto& k : turns)
-    if (std::isfinite(k.angle)) {
-      t.push_back(k.t);
-      a.push_back(k.angle);
-    }
-  if (points) *points = static_cast<int>(t.size());
-  if (t.size() < 3) return missing_value;
-  double c0, c1, cov00, cov01, cov11, sumsq;
-  gsl_fit_linear(t.data(), 1, a.data(), 1, t.size(), &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
-  return c1;
-}
 
 FoucaultRun run_foucault(const std::string& system, const std::string& scheme, const systems::FoucaultPendulum& scene,
                          double h, FoucaultStart start, long sample_every) {
@@ -37,7 +21,7 @@ FoucaultRun run_foucault(const std::string& system, const std::string& scheme, c
       systems::run_closed_form<C>(sys, p, q0, v0, h, N, start, diag);
       run.summary = diag.summary();
       run.samples = std::move(diag.samples);
-      run.turns = std::move(diag.turns);
+      run.turns = std::move(diag.turns());
     });
     return run;
   });

@@ -40,7 +40,7 @@ std::vector<State> odeint_reference(const KeplerSetting& s, long N, double tol, 
   namespace odeint = boost::numeric::odeint;
   const SystemInfo& sys = find_system("kepler");
   const auto ode = sys.ode(params_of(s));
-  const auto x0 = sys.ode_initial_state(params_of(s));
+  const auto x0 = sys.ode_initial_state(params_of(s), false);
   std::vector<double> times(static_cast<std::size_t>(N + 1));
   for (long j = 0; j <= N; ++j) times[static_cast<std::size_t>(j)] = static_cast<double>(j) * s.tau;
   auto f = [&](const State& x, State& dx, double t) { ode(t, x.data(), dx.data()); };
@@ -64,7 +64,7 @@ template <class Observer>
 void run_rk4(const KeplerSetting& s, long N, Observer&& observe) {
   const SystemInfo& sys = find_system("kepler");
   const auto ode = sys.ode(params_of(s));
-  const auto x0 = sys.ode_initial_state(params_of(s));
+  const auto x0 = sys.ode_initial_state(params_of(s), false);
   boost::numeric::odeint::runge_kutta4<State> rk4;
   State x{x0[0], x0[1], x0[2], x0[3]};
   auto f = [&](const State& y, State& dy, double t) { ode(t, y.data(), dy.data()); };

@@ -111,6 +111,14 @@ Path parse_path(const std::string& name) {
 
 const char* to_string(Path p) { return p == Path::fast ? "fast" : "generic"; }
 
+ErrorNorm parse_norm(const std::string& name) {
+  if (name == "max") return ErrorNorm::max;
+  if (name == "2") return ErrorNorm::euclidean;
+  throw InputError("unknown norm '" + name + "' (known: max 2)");
+}
+
+const char* to_string(ErrorNorm norm) { return norm == ErrorNorm::max ? "max" : "2"; }
+
 ReferenceKind parse_reference(const std::string& name) {
   if (name == "auto") return ReferenceKind::automatic;
   if (name == "exact") return ReferenceKind::exact;
@@ -129,7 +137,8 @@ void check_reference(const SystemInfo& sys, ReferenceKind kind, double tol) {
 }
 
 void check_reference_memory(int dof, bool exact, long N) {
-  const double per_time = sizeof(double) * (exact ? dof : 1 + 3 * dof);
+  // q and q' at every time; Odeint also holds the times and the states it returns
+  const double per_time = sizeof(double) * (exact ? 2 * dof : 1 + 4 * dof);
   check_memory(double(N + 1) * per_time, "the reference (" + show(double(N + 1)) + " times; lower --T or raise --h)");
 }
 

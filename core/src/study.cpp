@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include <gsl/gsl_fit.h>
 
@@ -116,16 +117,25 @@ void fit_series(ConvergenceSeries& s) {
 namespace {
 struct Point {
   double err = missing_value;
+  std::vector<double> measures;
   std::string failure;
 };
 }  // namespace
 
+double reference_step(const SystemInfo& sys, const std::vector<double>& hs) {
+  require(!hs.empty(), "a study needs h");
+  const double finest = *std::min_element(hs.begin(), hs.end());
+  return sys.measures.empty() ? finest : finest / 2;
+}
+
 ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<ParamValues>& combos,
                                    const std::vector<std::string>& schemes, const std::vector<double>& hs, Path path,
-                                   ReferenceKind kind, double tol, const Sweep& sweep) {
+                                   ReferenceKind kind, double tol, const Sweep& sweep, ErrorNorm norm) {
   require(!hs.empty() && !schemes.empty() && !combos.empty(), "a convergence study needs h, schemes and parameters");
   check_reference(sys, kind, tol);
-  for (const auto& pv : combos) check_reference_memory(sys, kind, step_count(hs.back(), sys.horizon(pv)));
+  const double h_ref = reference_step(sys, hs);
+  const std::size_t M = sys.measures.size();
+  for (const auto& pv : combos) check_reference_memory(sys, kind, step_count(h_ref, sys.horizon(pv)));
   // Every (combination, scheme, h) run is an item of the sweep (cost ~ 1/h); a rank computes the reference of a
   // combination when it first needs it.
   const std::size_t S = schemes.size(), H = hs.size(), n_items = combos.size() * S * H;
@@ -138,18 +148,29 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
         std::vector<Point> out;
         std::size_t ref_of = SIZE_MAX;
         Reference ref;
+        std::optional<NumericalFailure> ref_failure;  // a combination whose reference fails (a closed form that overflows) is missing
         for (std::size_t k = first; k < last; ++k) {
           const std::size_t c = k / (S * H);
           const ParamValues& pv = combos[c];
-          if (ref_of != c) {
-            ref = sys.reference(pv, hs.back(), step_count(hs.back(), sys.horizon(pv)), kind, tol);
-            ref_of = c;
-            ref_kind = ref.kind;
-          }
           const std::string& name = schemes[k / H % S];
+          if (ref_of != c) {
+            ref_of = c;
+            ref_failure.reset();
+            try {
+              ref = sys.reference(pv, h_ref, step_count(h_ref, sys.horizon(pv)), kind, tol);
+              ref_kind = ref.kind;
+            } catch (const NumericalFailure& f) {
+              if (combos.size() == 1) throw;  // a study of one combination has nothing left to show
+              ref_failure = f;
+            }
+          }
           Point p;
+          p.measures.assign(M, missing_value);
           try {
-            p.err = sys.max_error(pv, name, hs[k % H], path, ref);
+            if (ref_failure) throw *ref_failure;
+            const auto values = sys.measure_run(pv, name, hs[k % H], path, ref, norm);
+            p.err = values.front();
+            p.measures.assign(values.begin() + 1, values.end());
           } catch (const NumericalFailure& f) {
             p.failure = f.what();
             std::string where = "parameters";  // the failure names the system, scheme and h already
@@ -160,17 +181,23 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
         }
         return out;
       },
-      [](const Point& p) { return std::move(RowWriter().put(p.err).put(p.failure)).str(); },
+      [](const Point& p) { return std::move(RowWriter().put(p.err).put(p.measures).put(p.failure)).str(); },
       [](const std::string& row) {
         Point p;
-        RowReader(row).get(p.err).get(p.failure);
+        RowReader(row).get(p.err).get(p.measures).get(p.failure);
         return p;
       });
   ConvergenceStudy study;
   if (!sweep.root()) return study;
-  if (ref_kind.empty())  // every item ran on other ranks: name the reference all the same
-    ref_kind = sys.reference(combos.front(), hs.front(), 1, kind, tol).kind;
+  for (std::size_t c = 0; c < combos.size() && ref_kind.empty(); ++c) {
+    try {  // every item ran on other ranks (or every reference failed here): name the reference all the same
+      ref_kind = sys.reference(combos[c], hs.front(), 1, kind, tol).kind;
+    } catch (const NumericalFailure&) {
+    }
+  }
   study.reference = ref_kind;
+  study.norm = norm;
+  study.measures = sys.measures;
   for (std::size_t c = 0; c < combos.size(); ++c)
     for (std::size_t si = 0; si < S; ++si) {
       ConvergenceSeries s;
@@ -181,6 +208,7 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
       for (std::size_t i = 0; i < H; ++i) {
         const Point& p = points[(c * S + si) * H + i];
         s.err.push_back(p.err);
+        s.measures.push_back(p.measures);
         s.failure.push_back(p.failure);
         s.steps.push_back(step_count(hs[i], sys.horizon(combos[c])));
       }

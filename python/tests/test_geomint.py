@@ -154,6 +154,41 @@ def test_work_precision_errors_are_the_convergence_errors():
     assert np.all(wp["seconds"]["la"] > 0)
 
 
+def test_work_precision_baselines_are_the_programs(tmp_path):
+    # the module and the program run one study: the same errors, bit for bit, for schemes and baselines alike
+    program("work_precision", "--system", "oscillator", "--T", 10, "--h-max", 0.1, "--h-min", 0.025, "--schemes", "la",
+            "--baselines", "odeint-rk4", "odeint-dopri5", "gsl-rk8pd", "--tol", 1e-5, 1e-8, "--equations", "rhs",
+            "--adaptive-error", "steps", "--reps", 1, out=tmp_path)
+    table = geomint.read_tsv(tmp_path / "oscillator_work_precision.tsv")
+    wp = geomint.system("oscillator").work_precision(
+        ["la"], h=[0.1, 0.05, 0.025], params={"T": 10}, reps=1, baselines=["odeint-rk4", "odeint-dopri5", "gsl-rk8pd"],
+        tols=[1e-5, 1e-8], equations="rhs", adaptive_error="steps")
+    for method in ("la", "odeint-rk4", "odeint-dopri5", "gsl-rk8pd"):
+        rows = table["method"] == method
+        assert [text(x) for x in wp["error"][method]] == [text(x) for x in table["err_max"][rows]], method
+        assert [text(x) for x in wp["value"][method]] == [text(x) for x in table["value"][rows]], method
+    assert wp["knob"]["gsl-rk8pd"] == "tol"
+    # a tighter tolerance is a smaller error, and rk8pd at 1e-8 is far below dopri5's at 1e-5
+    assert wp["error"]["odeint-dopri5"][1] < wp["error"]["odeint-dopri5"][0]
+    assert wp["error"]["gsl-rk8pd"][1] < 1e-3 * wp["error"]["odeint-dopri5"][0]
+
+
+def test_convergence_measures_of_the_foucault_pendulum():
+    # the measures the system declares come with its convergence study; the bob's distance (norm 2) is at least
+    # the largest component of its error, and at most sqrt(2) times it
+    sys = geomint.system("foucault")
+    c2 = sys.convergence(["la", "contact"], h_max=0.1, h_min=0.025, params={"T": 4, "alpha": 1e-3}, norm="2")
+    cm = sys.convergence(["la", "contact"], h_max=0.1, h_min=0.025, params={"T": 4, "alpha": 1e-3})
+    assert set(c2["measures"]) == {"energy_err", "plane_err", "rate_rel_err", "min_r"}
+    assert np.all(cm["error"]["la"] <= c2["error"]["la"])
+    assert np.all(c2["error"]["la"] <= np.sqrt(2) * cm["error"]["la"] * (1 + 1e-12))
+    # contact's chord energy is second order at small alpha, as its error is (its first-order terms are
+    # proportional to alpha^2 and Omega sin beta); LA's is still pre-asymptotic over this range of h
+    e = c2["measures"]["energy_err"]["contact"]
+    assert 1.9 < np.log(e[0] / e[-1]) / np.log(4) < 2.1
+    np.testing.assert_array_equal(c2["measures"]["min_r"]["la"], cm["measures"]["min_r"]["la"])
+
+
 # ---------------------------------------------------------------------------------------------------------
 # ensembles: the program's table, and the bits of each run alone
 

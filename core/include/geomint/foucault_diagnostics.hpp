@@ -24,15 +24,6 @@ struct FoucaultSample {
   bool turning;      // q_j is a turning point (also in FoucaultDiagnostics::turns)
 };
 
-// A turning point: a local maximum of r_j = |q_j| (j = 0 counts when r_0 >= r_1).
-struct FoucaultTurn {
-  long j;
-  double t, x, y, r;
-  double energy;  // E_{j+1/2}
-  double angle;   // plane of oscillation, atan2(y, x) unwrapped modulo pi (continuous across turns), rad
-  double jump;    // angle - previous angle, rad (NaN for the first)
-};
-
 struct FoucaultSummary {
   double E0 = 0;                 // continuous energy of the consistent initial state
   double E_final = 0;            // E_{N-1/2}
@@ -58,9 +49,6 @@ struct FoucaultSummary {
   long turns = 0;
 };
 
-// Least-squares slope of angle against t over the turning points (GSL); NaN with fewer than 3.
-double fit_precession_rate(const std::vector<FoucaultTurn>& turns, int* points = nullptr);
-
 // Sys: Foucault or FoucaultRotation (which constraint the residual is of).
 template <class Sys, class T>
 class FoucaultDiagnostics {
@@ -77,7 +65,7 @@ class FoucaultDiagnostics {
     const double period = 2 * foucault_pi / std::sqrt(std::abs(static_cast<double>(p.w2 - p.s * p.s)));
     const double per_period = std::min(4 * static_cast<double>(N) * static_cast<double>(h) / period, static_cast<double>(N));
     const auto turns_est = static_cast<std::size_t>(std::isfinite(per_period) ? per_period : static_cast<double>(N)) + 16;
-    turns.reserve(turns_est);
+    plane_.turns.reserve(turns_est);
     samples.reserve(static_cast<std::size_t>(N / sample_every) + 2 + turns_est);
   }
 
@@ -103,8 +91,21 @@ class FoucaultDiagnostics {
       S.min_pass_ratio = static_cast<double>(r / step_len);
       S.t_min_pass_ratio = t;
     }
-    const bool turning = is_turning_point(st.j == 0, T(st.qm.norm()), r, rn);
-    if (turning) add_turn(st, t, static_cast<double>(r), static_cast<double>(E));
+    const bool turning = plane_.observe(st.j, t, T(st.qm.norm()), static_cast<double>(st.q(0)),
+                                        static_cast<double>(st.q(1)), r, rn, static_cast<double>(E));
+    if (turning && plane_.turns.size() > 1) {  // the jump of the plane and the energy lost since the last turn
+      const FoucaultTurn &k = plane_.turns.back(), &prev = plane_.turns[plane_.turns.size() - 2];
+      auto& S = summary_;
+      if (std::abs(k.jump) > S.max_jump) {
+        S.max_jump = std::abs(k.jump);
+        S.t_max_jump = t;
+      }
+      const double loss = 1 - k.energy / prev.energy * std::exp(static_cast<double>(p_.alpha) * (t - prev.t));
+      if (loss > S.max_energy_loss) {
+        S.max_energy_loss = loss;
+        S.t_max_energy_loss = t;
+      }
+    }
     if (turning || st.j % every_ == 0 || st.j == N_ - 1)
       samples.push_back({st.j, t, static_cast<double>(st.q(0)), static_cast<double>(st.q(1)), static_cast<double>(E),
                          static_cast<double>(st.lambda), res, turning});
@@ -117,37 +118,17 @@ class FoucaultDiagnostics {
   // Completes the summary (precession fit) after the run.
   FoucaultSummary summary() const {
     FoucaultSummary s = summary_;
-    s.rate = fit_precession_rate(turns, &s.rate_points);
-    s.turns = static_cast<long>(turns.size());
+    s.rate = plane_.rate(&s.rate_points);
+    s.turns = static_cast<long>(plane_.turns.size());
     return s;
   }
+  // The turning points (moved out by a caller that keeps them).
+  std::vector<FoucaultTurn>& turns() { return plane_.turns; }
 
   std::vector<FoucaultSample> samples;
-  std::vector<FoucaultTurn> turns;
 
  private:
-  void add_turn(const FoucaultStep<T>& st, double t, double r, double E) {
-    const double x = static_cast<double>(st.q(0)), y = static_cast<double>(st.q(1));
-    double a = std::atan2(y, x), jump = missing_value;
-    if (!turns.empty()) {
-      const double prev = turns.back().angle;
-      a = line_angle(x, y, prev);
-      jump = a - prev;
-      auto& S = summary_;
-      if (std::abs(jump) > S.max_jump) {
-        S.max_jump = std::abs(jump);
-        S.t_max_jump = t;
-      }
-      const double dt = t - turns.back().t;
-      const double loss = 1 - E / turns.back().energy * std::exp(static_cast<double>(p_.alpha) * dt);
-      if (loss > S.max_energy_loss) {
-        S.max_energy_loss = loss;
-        S.t_max_energy_loss = t;
-      }
-    }
-    turns.push_back({st.j, t, x, y, r, E, a, jump});
-  }
-
+  PlaneTurns plane_;
   FoucaultParams<T> p_;
   T h_;
   long N_, every_;

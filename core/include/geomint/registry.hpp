@@ -43,6 +43,19 @@ struct SchemeInfo {
   bool named(const std::string& name) const;  // its name or one of its aliases
 };
 
+// A quantity a study measures on a run beyond its error in q, declared by the system it belongs to (its
+// `Measures` observer, generic/system_info.hpp): the Foucault pendulum's plane of oscillation, say.
+struct MeasureInfo {
+  std::string name;  // the column it is written in (energy_err, plane_err, ...)
+  std::string doc;   // what it is, for a table's header
+};
+
+// The norm over the components of q in which an error max_j |q(t_j) - q_ref(t_j)| is taken: the largest
+// component (every study's default), or the Euclidean length (a bob's distance from where it should be).
+enum class ErrorNorm { max, euclidean };
+ErrorNorm parse_norm(const std::string& name);
+const char* to_string(ErrorNorm norm);
+
 // A run as tidy columns, decimated to every k-th step (always including the first and the last).
 struct Run {
   int n = 0, m = 0;
@@ -93,6 +106,7 @@ struct Reference {
   long N = 0;
   int n = 0;
   std::vector<double> q;  // rows of n
+  std::vector<double> v;  // rows of n: q'(t_j) (the closed form's, or the state Odeint integrates)
   // Row index of t = j * h_coarse on this grid (h_coarse a multiple of h); throws InputError otherwise.
   long index(long j, double h_coarse) const;
 };
@@ -110,6 +124,7 @@ struct SystemInfo {
   // generic step of the base; no closed form, so the path is generic whatever is asked), run only when named.
   std::vector<SchemeInfo> compositions;
   Expectations expectations;  // what its tests expect (declared with the system, or the defaults)
+  std::vector<MeasureInfo> measures;  // what a run is measured by beyond the error in q (declared with the system)
 
   // Operations on this system (function pointers into its generated translation unit).
   void (*validate)(const ParamValues&) = nullptr;  // InputError naming the first bad value
@@ -118,6 +133,11 @@ struct SystemInfo {
   Run (*run)(const ParamValues&, const std::string& scheme, double h, Path, long every) = nullptr;
   // max_j |q_j - q_ref(t_j)| (max norm over components) without storing the run.
   double (*max_error)(const ParamValues&, const std::string& scheme, double h, Path, const Reference&) = nullptr;
+  // The error in q and the system's measures of one run, in one pass: {max_j |q(t_j) - q_ref(t_j)| in `norm`,
+  // then one value per entry of `measures`}. With measures, `ref` needs a grid of h/2 (a measure may compare a
+  // chord quantity at t_{j+1/2} with the reference's state there) and its velocities.
+  std::vector<double> (*measure_run)(const ParamValues&, const std::string& scheme, double h, Path, const Reference&,
+                                     ErrorNorm norm) = nullptr;
   // max_j |(shift + q_j)/(shift + q_ref(t_j)) - 1| (the paper's regularized relative error, component 0).
   double (*max_relative_error)(const ParamValues&, const std::string& scheme, double h, Path, const Reference&,
                                double shift) = nullptr;
@@ -130,7 +150,15 @@ struct SystemInfo {
   // with its consistent initial state, for Odeint baselines.
   TimingStats (*time_run)(const ParamValues&, const std::string& scheme, double h, Path, int reps) = nullptr;
   std::function<void(double t, const double* x, double* dx)> (*ode)(const ParamValues&) = nullptr;
-  std::vector<double> (*ode_initial_state)(const ParamValues&) = nullptr;
+  // The same with the system's hand-written acceleration (InputError without one): the equations an Odeint or GSL
+  // baseline integrates when it is to cost what a hand-written right-hand side costs (AD's is several times dearer).
+  std::function<void(double t, const double* x, double* dx)> (*ode_rhs)(const ParamValues&) = nullptr;
+  // The closed-form positions at arbitrary times (rows of n; InputError without a closed form): an adaptive
+  // method's error at the steps it chose.
+  std::vector<double> (*exact_positions)(const ParamValues&, const std::vector<double>& times) = nullptr;
+  // (q0, v0): the start of `ode` (hand_written false), or of `ode_rhs` (true: the system's own projection onto its
+  // constraints where it writes one, as the hand-written equations do; the two agree to round-off)
+  std::vector<double> (*ode_initial_state)(const ParamValues&, bool hand_written) = nullptr;
   // Linear unconstrained systems (stability maps): the linear part of the one-step map of `scheme` on (q, p)
   // (2n x 2n, row-major; a forcing term is removed by differencing), and of the continuous flow's generator on
   // (q, q'). On the fast path a closed form gives its matrix in long double (the system's closed_form_matrix),

@@ -65,7 +65,8 @@ AsymptoticOrder asymptotic_order(const std::vector<double>& h, const std::vector
 struct ConvergenceSeries {
   std::string scheme;                  // as asked (its name or an alias)
   ParamValues params;                  // the combination
-  std::vector<double> h, err;          // err: max_j max_i |q_i(t_j) - q_ref,i(t_j)|, NaN where the run failed
+  std::vector<double> h, err;          // err: max_j |q(t_j) - q_ref(t_j)| in the study's norm, NaN where the run failed
+  std::vector<std::vector<double>> measures;  // per h: the system's measures (ConvergenceStudy::measures), NaN where failed
   std::vector<long> steps;             // T/h
   std::vector<std::string> failure;    // why a point is missing ("" where it is not)
   std::vector<double> local_order;     // observed_orders(h, err)
@@ -76,16 +77,23 @@ struct ConvergenceSeries {
 
 struct ConvergenceStudy {
   std::string reference;               // what the errors are measured against (Reference::kind)
+  ErrorNorm norm = ErrorNorm::max;     // over the components of q
+  std::vector<MeasureInfo> measures;   // what the system measures on a run beyond the error (SystemInfo::measures)
   std::vector<ConvergenceSeries> series;  // combination after combination, each with every scheme
 };
 
-// Every (combination, scheme, h) run of `sys` against its reference on the finest h of `hs` (computed once per
-// combination: the closed form or Boost.Odeint at `tol`, as check_reference allows), split over the ranks of
-// `sweep` (under mpirun rank 0 gets the study, the others an empty one). A numerical failure is a missing value
-// (NaN, its message in `failure`), reported on stderr with the system, scheme, parameters and h.
+// Every (combination, scheme, h) run of `sys` against its reference on the finest h of `hs` (on half of it where
+// the system declares measures, which look at t_{j+1/2}; computed once per combination: the closed form or
+// Boost.Odeint at `tol`, as check_reference allows), split over the ranks of `sweep` (under mpirun rank 0 gets the
+// study, the others an empty one). Each run gives its error in `norm` and the system's measures in one pass. A
+// numerical failure is a missing value (NaN, its message in `failure`), reported on stderr with the system,
+// scheme, parameters and h.
 ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<ParamValues>& combos,
                                    const std::vector<std::string>& schemes, const std::vector<double>& hs, Path path,
-                                   ReferenceKind kind, double tol, const Sweep& sweep);
+                                   ReferenceKind kind, double tol, const Sweep& sweep, ErrorNorm norm = ErrorNorm::max);
+// The step of the reference a study on `sys` with steps `hs` uses: the finest h, or half of it when the system
+// declares measures (they read the reference between steps, e.g. the Foucault chord energy at t_{j+1/2}).
+double reference_step(const SystemInfo& sys, const std::vector<double>& hs);
 
 // The series' fits from its h and err (local orders, least-squares and asymptotic fits).
 void fit_series(ConvergenceSeries& s);

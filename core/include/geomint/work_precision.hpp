@@ -15,6 +15,7 @@
 
 #include "geomint/error.hpp"
 #include "geomint/record.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/timing.hpp"
 
 namespace geomint {
@@ -119,5 +120,46 @@ std::vector<double> work_horizons(const std::vector<WorkPoint>& points);
 // The cheapest time of `method` at (group, horizon) whose error `measure` is <= target; INFINITY when none.
 double time_to_target(const std::vector<WorkPoint>& points, const std::string& method, double group, double horizon,
                       std::size_t measure, double target);
+
+// ---------------------------------------------------------------------------------------------------------------
+// The work–precision study of any system: max_j |q(t_j) - q_ref(t_j)| against CPU time.
+
+// What a study runs. Fixed-step methods (the system's schemes, Odeint's rk4) are swept over h, adaptive ones over
+// the tolerance (rel = abs = tol). The reference is the system's (closed form, else Odeint at reference_tol; or
+// the kind asked) on the finest h.
+struct WorkPrecisionOptions {
+  std::vector<std::string> schemes;    // the system's schemes or compositions, by name
+  std::vector<double> hs;              // the fixed-step methods' steps (each divides T, each a multiple of the finest)
+  std::vector<std::string> baselines;  // of work_precision_baselines()
+  std::vector<double> tols;            // the adaptive baselines' tolerances
+  Path path = Path::fast;
+  ErrorNorm norm = ErrorNorm::max;
+  // The baselines integrate x = (q, q') with the system's hand-written acceleration (what a hand-coded baseline
+  // costs) instead of the one derived from L, F and Phi by AD.
+  bool hand_written = false;
+  // An adaptive method's error at the steps it chose, against the closed form there (no output grid caps its
+  // step size; needs a closed form), instead of at dense output on the grid of the largest h.
+  bool at_steps = false;
+  int reps = 5;
+  ReferenceKind reference = ReferenceKind::automatic;  // on the finest h
+  double reference_tol = 1e-13;
+};
+
+// odeint-rk4 (over h), odeint-dopri5, odeint-bulirsch-stoer and gsl-rk8pd (over tol; GSL's has no dense output,
+// so it needs at_steps).
+const std::vector<std::string>& work_precision_baselines();
+
+struct WorkPrecisionStudy {
+  std::string reference;         // what the errors are measured against (Reference::kind)
+  std::vector<WorkPoint> points;  // errors = {the max error}; group = the index of the parameter combination
+};
+
+// Refuses what the study cannot run (unknown baselines, no closed form for at_steps, ...) and plans its work
+// (plan_steps, memory), before anything is written.
+void check_work_precision(const SystemInfo& sys, const std::vector<ParamValues>& combos, const WorkPrecisionOptions& opt);
+// Every point of every combination: schemes over h, then rk4 over h, then the adaptive baselines over tol. A run
+// that fails is a missing point named on stderr.
+WorkPrecisionStudy work_precision_study(const SystemInfo& sys, const std::vector<ParamValues>& combos,
+                                        const WorkPrecisionOptions& opt);
 
 }  // namespace geomint

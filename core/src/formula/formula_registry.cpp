@@ -123,6 +123,7 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
   return EntrySlots<SystemInfo>::acquire<&SystemInfo::validate, &SystemInfo::horizon, &SystemInfo::run, &SystemInfo::max_error,
                                          &SystemInfo::max_relative_error, &SystemInfo::reference,
                                          &SystemInfo::time_run, &SystemInfo::ode, &SystemInfo::ode_initial_state,
+                                         &SystemInfo::measure_run, &SystemInfo::ode_rhs, &SystemInfo::exact_positions,
                                          &SystemInfo::one_step_matrix, &SystemInfo::continuous_matrix>(model, &shape,
                                                                                                         std::move(entry));
 }

@@ -71,6 +71,7 @@ GEOMINT_DETECT(has_force, std::declval<const Sys&>().force(0.0, detail::V<Sys>()
 GEOMINT_DETECT(has_holonomic, std::declval<const Sys&>().holonomic(0.0, detail::V<Sys>()))
 GEOMINT_DETECT(has_energy, std::declval<const Sys&>().energy(0.0, detail::V<Sys>(), detail::V<Sys>()))
 GEOMINT_DETECT(has_exact, std::declval<const Sys&>().exact(0.0))
+GEOMINT_DETECT(has_projection, std::declval<const Sys&>().project_velocity(0.0, detail::V<Sys>(), detail::V<Sys>()))
 GEOMINT_DETECT(has_rhs, std::declval<const Sys&>().rhs(0.0, detail::V<Sys>(), detail::V<Sys>(),
                                                        std::declval<detail::V<Sys>&>()))
 GEOMINT_DETECT(has_linear_flag, Sys::linear)
@@ -165,6 +166,19 @@ T energy(const Sys& sys, const T& t, const Vec<T, Sys::dof>& q, const Vec<T, Sys
 // holonomic constraint g the position is not touched: the initial position must satisfy g = 0.
 template <class Sys, class T>
 Vec<T, Sys::dof> consistent_velocity(const Sys& sys, const T& t, const Vec<T, Sys::dof>& q, const Vec<T, Sys::dof>& v);
+
+// The start of a system's hand-written equations (its `rhs`): the projection it writes in closed form
+// (`project_velocity(t, q, v)`; the Foucault pendulum's, which the paper's code starts its multiplier ODE from),
+// else consistent_velocity. The two agree to round-off. The generic step and the equations derived from L start from
+// consistent_velocity alone, so that a system written as formulas steps to its header's bits.
+template <class Sys>
+Vec<double, Sys::dof> hand_written_velocity(const Sys& sys, double t, const Vec<double, Sys::dof>& q,
+                                            const Vec<double, Sys::dof>& v) {
+  if constexpr (has_projection_v<Sys>)
+    return sys.project_velocity(t, q, v);
+  else
+    return consistent_velocity(sys, t, q, v);
+}
 
 // The continuous equations of motion, derived from L, F and Phi by nested forward-mode AD:
 //   Lagrange–d'Alembert:  M a = L_q - L_q'q q' - L_q't + F + A^T lambda,  M = L_q'q',

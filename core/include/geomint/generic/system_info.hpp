@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <tuple>
 #include <type_traits>
@@ -220,24 +221,6 @@ Run run_scheme(const Sys& sys, double h, Path path, long every) {
   return run;
 }
 
-template <class Sys, class G, class Metric>
-double max_over_run(const Sys& sys, double h, Path path, const Reference& ref, Metric&& metric) {
-  constexpr int n = Sys::dof, m = Sys::constraints;
-  require(ref.n == n, "reference has the wrong dimension");
-  const long N = step_count(h, horizon_of(sys));
-  double err = 0;
-  try {
-    drive<Sys, G>(sys, h, N, path, [&](const StepView<double, n, m>& s, int) {
-      const long r = ref.index(s.j, h);
-      for (int i = 0; i < n; ++i)
-        err = std::max(err, metric(i, s.q(i), ref.q[static_cast<std::size_t>(r * n + i)]));
-    });
-  } catch (const NumericalFailure& e) {
-    throw e.within(context<Sys, G>(sys, h, path));
-  }
-  return err;
-}
-
 // ---------------------------------------------------------------------------------------------------
 // Compositions (composition.hpp) run as schemes: "<family>:<base>", by the generic step of the base.
 
@@ -336,32 +319,91 @@ Run run_composition(const Sys& sys, const CompositionFamily& family, const std::
 }
 
 
-template <class Sys, class G, class Metric>
-double max_over_composition(const Sys& sys, const CompositionFamily& family, const std::string& name, double h,
-                            const Reference& ref, Metric&& metric) {
+// Calls observe(StepView) at every q_j, j = 0..N, of the scheme or composition `name`. The observer is a
+// std::function, so every error and measure of a run shares one instantiation of each scheme's loop (an indirect
+// call a step costs nothing beside a step; build time is a budget).
+template <class Sys>
+using StepObserver = std::function<void(const StepView<double, Sys::dof, Sys::constraints>&)>;
+template <class Sys>
+void for_each_step_named(const Sys& sys, const std::string& name, double h, Path path, const StepObserver<Sys>& observe) {
   constexpr int n = Sys::dof, m = Sys::constraints;
-  require(ref.n == n, "reference has the wrong dimension");
   const long N = step_count(h, horizon_of(sys));
-  double err = 0;
-  try {
-    drive_composition<Sys, G>(sys, family, h, N, [&](const StepView<double, n, m>& s, int, double) {
-      const long r = ref.index(s.j, h);
-      for (int i = 0; i < n; ++i) err = std::max(err, metric(i, s.q(i), ref.q[static_cast<std::size_t>(r * n + i)]));
+  if (is_composition_name(name)) {
+    visit_composition<Sys>(name, [&](auto g, const CompositionFamily& f) {
+      try {
+        drive_composition<Sys, decltype(g)>(sys, f, h, N,
+                                            [&](const StepView<double, n, m>& s, int, double) { observe(s); });
+      } catch (const NumericalFailure& e) {
+        throw e.within(composition_context<Sys>(name, h));
+      }
     });
-  } catch (const NumericalFailure& e) {
-    throw e.within(composition_context<Sys>(name, h));
+    return;
   }
-  return err;
+  visit_scheme<Sys>(name, [&](auto g) {
+    using G = decltype(g);
+    try {
+      drive<Sys, G>(sys, h, N, path, [&](const StepView<double, n, m>& s, int) { observe(s); });
+    } catch (const NumericalFailure& e) {
+      throw e.within(context<Sys, G>(sys, h, path));
+    }
+  });
 }
 
-// As max_over_run for a scheme or a composition, by name.
+// What a system measures on a run beyond the error in q: its `Measures`, an observer of every q_j with the
+// reference (FoucaultPendulum::Measures is one):
+//   static std::vector<MeasureInfo> info();
+//   Measures(const Sys&, double h, long N, const Reference& ref);   // ref on a grid of h/2, with velocities
+//   void operator()(long j, double t, const Vec<double, n>& q);      // every q_j, j = 0..N, in order
+//   std::vector<double> values() const;                              // one per info() entry, after q_N
+template <class Sys, class = void>
+struct has_measures : std::false_type {};
+template <class Sys>
+struct has_measures<Sys, std::void_t<typename Sys::Measures>> : std::true_type {};
+
+// SystemInfo::measure_run: the error in `norm` and the system's measures, in one pass.
+template <class Sys>
+std::vector<double> measure_run_of(const Sys& sys, const std::string& name, double h, Path path, const Reference& ref,
+                                   ErrorNorm norm) {
+  constexpr int n = Sys::dof;
+  require(ref.n == n, "reference has the wrong dimension");
+  double err = 0;
+  auto error = [&](long j, const Vec<double, n>& q) {
+    const std::size_t r = static_cast<std::size_t>(ref.index(j, h) * n);
+    if (norm == ErrorNorm::max) {
+      for (int i = 0; i < n; ++i) err = std::max(err, std::abs(q(i) - ref.q[r + static_cast<std::size_t>(i)]));
+    } else {  // hypot, one component at a time: the length without overflow, exactly std::hypot for n = 2
+      double d = 0;
+      for (int i = 0; i < n; ++i) d = std::hypot(d, q(i) - ref.q[r + static_cast<std::size_t>(i)]);
+      err = std::max(err, d);
+    }
+  };
+  using View = StepView<double, n, Sys::constraints>;
+  if constexpr (has_measures<Sys>::value) {
+    typename Sys::Measures measures(sys, h, step_count(h, horizon_of(sys)), ref);
+    for_each_step_named<Sys>(sys, name, h, path, [&](const View& s) {
+      error(s.j, s.q);
+      measures(s.j, s.t, s.q);
+    });
+    std::vector<double> out{err};
+    for (double x : measures.values()) out.push_back(x);
+    return out;
+  } else {
+    for_each_step_named<Sys>(sys, name, h, path, [&](const View& s) { error(s.j, s.q); });
+    return {err};
+  }
+}
+
+// max_j max_i metric(i, q_i(t_j), q_ref,i(t_j)) over the run of the scheme or composition `name`.
 template <class Sys, class Metric>
 double max_over_named(const Sys& sys, const std::string& name, double h, Path path, const Reference& ref, Metric&& metric) {
-  if (is_composition_name(name))
-    return visit_composition<Sys>(name, [&](auto g, const CompositionFamily& f) {
-      return max_over_composition<Sys, decltype(g)>(sys, f, name, h, ref, metric);
-    });
-  return visit_scheme<Sys>(name, [&](auto g) { return max_over_run<Sys, decltype(g)>(sys, h, path, ref, metric); });
+  constexpr int n = Sys::dof;
+  require(ref.n == n, "reference has the wrong dimension");
+  double err = 0;
+  for_each_step_named<Sys>(sys, name, h, path, [&](const StepView<double, n, Sys::constraints>& s) {
+    const std::size_t r = static_cast<std::size_t>(ref.index(s.j, h) * n);
+    for (int i = 0; i < n; ++i) err = std::max(err, metric(i, s.q(i), ref.q[r + static_cast<std::size_t>(i)]));
+  });
+  return err;
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -378,12 +420,20 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
   ref.N = N;
   ref.n = n;
   ref.q.resize(static_cast<std::size_t>((N + 1) * n));
+  ref.v.resize(ref.q.size());
   if (kind == ReferenceKind::exact) {
     if constexpr (has_exact_v<Sys>) {
       ref.kind = "closed form";
       for (long j = 0; j <= N; ++j) {
         const auto x = sys.template exact<double>(static_cast<double>(j) * h);
-        for (int i = 0; i < n; ++i) ref.q[static_cast<std::size_t>(j * n + i)] = x.q(i);
+        // where a closed form overflows (extreme parameters), not as a nan in some table downstream
+        if (!x.q.allFinite() || !x.v.allFinite())
+          throw NumericalFailure(j, "reference", std::string("the closed-form solution of ") + Sys::name +
+                                                     " is not finite at t = " + show(static_cast<double>(j) * h));
+        for (int i = 0; i < n; ++i) {
+          ref.q[static_cast<std::size_t>(j * n + i)] = x.q(i);
+          ref.v[static_cast<std::size_t>(j * n + i)] = x.v(i);
+        }
       }
       return ref;
     } else {
@@ -397,13 +447,14 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
   for (long j = 0; j <= N; ++j) times[static_cast<std::size_t>(j)] = static_cast<double>(j) * h;
   using State = std::array<double, 2 * n>;
   const Vec<double, n> q0 = sys.template initial_position<double>();
-  const Vec<double, n> v0 = consistent_velocity(sys, 0.0, q0, sys.template initial_velocity<double>());
+  const bool hand = kind == ReferenceKind::odeint_rhs;
+  const Vec<double, n> v0 = hand ? hand_written_velocity(sys, 0.0, q0, sys.template initial_velocity<double>())
+                                 : consistent_velocity(sys, 0.0, q0, sys.template initial_velocity<double>());
   State x0;
   for (int i = 0; i < n; ++i) {
     x0[static_cast<std::size_t>(i)] = q0(i);
     x0[static_cast<std::size_t>(n + i)] = v0(i);
   }
-  const bool hand = kind == ReferenceKind::odeint_rhs;
   auto rhs = [&](const State& x, State& dx, double t) {
     Vec<double, n> q, v, a;
     for (int i = 0; i < n; ++i) {
@@ -429,8 +480,11 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
   for (long j = 0; j <= N; ++j)
     for (int i = 0; i < n; ++i) {
       const double qi = xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)];
-      if (!std::isfinite(qi)) throw NumericalFailure(j, "reference", std::string("Odeint reference of ") + Sys::name + " is not finite");
+      const double vi = xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(n + i)];
+      if (!std::isfinite(qi) || !std::isfinite(vi))
+        throw NumericalFailure(j, "reference", std::string("Odeint reference of ") + Sys::name + " is not finite");
       ref.q[static_cast<std::size_t>(j * n + i)] = qi;
+      ref.v[static_cast<std::size_t>(j * n + i)] = vi;
     }
   ref.kind = std::string("Boost.Odeint dopri5, dense output, tol ") + show(tol) +
              (hand ? ", hand-written equations" : ", equations derived from L, F, Phi by AD");
@@ -596,6 +650,7 @@ SystemInfo make_system_info() {
     }
 
   info.expectations = expectations_of<Sys>();
+  if constexpr (has_measures<Sys>::value) info.measures = Sys::Measures::info();
   info.validate = [](const ParamValues& pv) { make_system<Sys>(pv).validate(); };
   info.horizon = [](const ParamValues& pv) { return horizon_of(make_system<Sys>(pv)); };
   info.run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, long every) {
@@ -611,6 +666,12 @@ SystemInfo make_system_info() {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
     return max_over_named(sys, scheme, h, path, ref, [](int, double q, double r) { return std::abs(q - r); });
+  };
+  info.measure_run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, const Reference& ref,
+                        ErrorNorm norm) {
+    const Sys sys = make_system<Sys>(pv);
+    sys.validate();
+    return measure_run_of(sys, scheme, h, path, ref, norm);
   };
   info.max_relative_error = [](const ParamValues& pv, const std::string& scheme, double h, Path path,
                                const Reference& ref, double shift) {
@@ -665,6 +726,49 @@ SystemInfo make_system_info() {
       }
     };
   };
+  info.ode_rhs = [](const ParamValues& pv) -> std::function<void(double, const double*, double*)> {
+    if constexpr (has_rhs_v<Sys>) {
+      const Sys sys = make_system<Sys>(pv);
+      sys.validate();
+      return [sys](double t, const double* x, double* dx) {
+        constexpr int n = Sys::dof;
+        Vec<double, n> q, v, a;
+        for (int i = 0; i < n; ++i) {
+          q(i) = x[i];
+          v(i) = x[n + i];
+        }
+        sys.rhs(t, q, v, a);
+        for (int i = 0; i < n; ++i) {
+          dx[i] = v(i);
+          dx[n + i] = a(i);
+        }
+      };
+    } else {
+      (void)pv;
+      throw InputError(std::string("system '") + Sys::name + "' has no hand-written rhs (use the equations derived by AD)");
+    }
+  };
+  info.exact_positions = [](const ParamValues& pv, const std::vector<double>& times) {
+    if constexpr (has_exact_v<Sys>) {
+      const Sys sys = make_system<Sys>(pv);
+      sys.validate();
+      std::vector<double> q;
+      q.reserve(times.size() * Sys::dof);
+      for (double t : times) {
+        const auto x = sys.template exact<double>(t);
+        if (!x.q.allFinite())
+          throw NumericalFailure(0, "reference", std::string("the closed-form solution of ") + Sys::name +
+                                                     " is not finite at t = " + show(t));
+        for (int i = 0; i < Sys::dof; ++i) q.push_back(x.q(i));
+      }
+      return q;
+    } else {
+      (void)pv;
+      (void)times;
+      throw InputError(std::string("system '") + Sys::name + "' has no closed-form solution");
+      return std::vector<double>{};
+    }
+  };
   info.one_step_matrix = [](const ParamValues& pv, const std::string& scheme, double h, Path path) {
     require_linear_unconstrained<Sys>("a one-step matrix");
     const Sys sys = make_system<Sys>(pv);
@@ -686,11 +790,12 @@ SystemInfo make_system_info() {
     sys.validate();
     return continuous_matrix_of(sys);
   };
-  info.ode_initial_state = [](const ParamValues& pv) {
+  info.ode_initial_state = [](const ParamValues& pv, bool hand_written) {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
     const Vec<double, Sys::dof> q0 = sys.template initial_position<double>();
-    const Vec<double, Sys::dof> v0 = consistent_velocity(sys, 0.0, q0, sys.template initial_velocity<double>());
+    const Vec<double, Sys::dof> v = sys.template initial_velocity<double>();
+    const Vec<double, Sys::dof> v0 = hand_written ? hand_written_velocity(sys, 0.0, q0, v) : consistent_velocity(sys, 0.0, q0, v);
     std::vector<double> x(q0.data(), q0.data() + Sys::dof);
     x.insert(x.end(), v0.data(), v0.data() + Sys::dof);
     return x;

@@ -35,6 +35,7 @@
 #include "geomint/generic/fast_path.hpp"
 #include "geomint/generic/schemes.hpp"
 #include "geomint/linear_oscillator.hpp"
+#include "geomint/observers.hpp"
 #include "geomint/registry.hpp"
 
 namespace geomint {
@@ -125,6 +126,41 @@ T chord_energy(const FoucaultParams<T>& p, const Vec2<T>& q, const Vec2<T>& qn, 
 }
 
 // ---------------------------------------------------------------------------------------------------
+// The plane of oscillation along a run
+
+// A turning point: a local maximum of r_j = |q_j| (j = 0 counts when r_0 >= r_1).
+struct FoucaultTurn {
+  long j;
+  double t, x, y, r;
+  double energy;  // E_{j+1/2}
+  double angle;   // plane of oscillation, atan2(y, x) unwrapped modulo pi (continuous across turns), rad
+  double jump;    // angle - previous angle, rad (NaN for the first)
+};
+
+// Least-squares slope of angle against t over the turning points (GSL); NaN with fewer than 3.
+double fit_precession_rate(const std::vector<FoucaultTurn>& turns, int* points = nullptr);
+
+// The turning points of a run and the plane at each, continued modulo pi from turn to turn: the one record the
+// diagnostics, the ensembles' summaries and the convergence measures take the precession rate from.
+struct PlaneTurns {
+  std::vector<FoucaultTurn> turns;
+  // The step j -> j+1 as |q_{j-1}|, q_j = (x, y), |q_{j+1}| at t_j (E: the chord energy E_{j+1/2}); the radii
+  // compared in the run's own precision T. True when q_j is a turning point, which is then the last of `turns`.
+  template <class T>
+  bool observe(long j, double t, T r_prev, double x, double y, T r, T r_next, double E) {
+    if (!is_turning_point(j == 0, r_prev, r, r_next)) return false;
+    double a = std::atan2(y, x), jump = missing_value;
+    if (!turns.empty()) {
+      a = line_angle(x, y, turns.back().angle);
+      jump = a - turns.back().angle;
+    }
+    turns.push_back({j, t, x, y, static_cast<double>(r), E, a, jump});
+    return true;
+  }
+  double rate(int* points = nullptr) const { return fit_precession_rate(turns, points); }
+};
+
+// ---------------------------------------------------------------------------------------------------
 // Starting procedure
 //
 // A two-step scheme needs q_1 (equivalently a virtual q_{-1}) besides q_0. The paper gives
@@ -143,7 +179,7 @@ T chord_energy(const FoucaultParams<T>& p, const Vec2<T>& q, const Vec2<T>& qn, 
 //     (for contact, p_j = D2 L_d(q_{j-1}, q_j, z_{j-1}) = -D1 L_d(q_j, q_{j+1}, z_j)/(1 - h alpha) as in
 //     eq. (10)). We chose it because it is the scheme's own map from (q, p) to (q_j, q_{j+1}), so the
 //     first step carries no extra error: both schemes keep their observed orders (contact's error looks
-//     O(h^2) at small alpha only with this start; see convergence_foucault).
+//     O(h^2) at small alpha only with this start; see `convergence --system foucault`).
 //   taylor: the naive backward Euler start q_{-1} = q0 - h q'(0) with the raw (unprojected) q'(0).
 //     For LA it is the same start as legendre: the A(q0)-component of q'(0) that the projection removes
 //     is absorbed by lambda, and F_d^+ = 0 makes p_0^- = m (q0 - q_{-1})/h. For contact it misses the
@@ -459,6 +495,13 @@ struct FoucaultPendulum : FoucaultDynamics<FoucaultPendulum> {
   }
   // The physical parameters and initial data as header lines for output files.
   std::vector<std::pair<std::string, std::string>> header_params() const;
+  // The projection onto (13) in closed form (consistent_velocity above), which the closed forms start from: the
+  // generic step and the references start from the same bits.
+  Vec<double, 2> project_velocity(double, const Vec<double, 2>& q, const Vec<double, 2>& v) const {
+    return consistent_velocity(FoucaultParams<double>(*this), Vec2<double>(q), Vec2<double>(v));
+  }
+  // What a convergence study measures on a run beyond the error in q (below).
+  class Measures;
   // The convergence tests run the first quarter swing: the paper's constraint is singular at the origin (first pass
   // at t = pi/(2 sqrt(w2 - s^2)) = 4.1 s, where a landing kicks the plane by s h / rho: docs/where-methods-fail.md), with a damping
   // large enough to be seen over 4 s.
@@ -503,6 +546,33 @@ struct FoucaultPendulum : FoucaultDynamics<FoucaultPendulum> {
   // carry z), lambda the impulse of the step into q_j.
   template <class Self, class C, class R, class Observer>
   static void run_as_generic(const Self& self, R h, long N, Observer&& observe);
+};
+
+// What a convergence study measures on a run of either constraint beyond the error in q (SystemInfo::measures),
+// step j -> j+1 against the reference on a grid of h/2 (it holds t_j and t_{j+1/2}, with velocities):
+//   energy_err    max_j |E_{j+1/2} - E_ref(t_{j+1/2})| / E0: the chord energy against the reference's energy
+//   plane_err     max_j |angle(q_j) - angle(q_ref(t_j))| mod pi (rad), over the steps where the reference is in the
+//                 outer half of its swing (|q_ref| >= |q0| e^{-alpha t/2}/2), where the polar angle is the plane's
+//   rate_rel_err  |fitted precession rate / (-Omega sin beta) - 1| over the turning points (at least 3)
+//   min_r         min_j |q_j| (m): how close the run passes by the origin, where (13) is singular
+// The bob's distance from the reference, max_j |q_j - q_ref(t_j)| in the Euclidean norm, is the study's error
+// with --norm 2.
+class FoucaultPendulum::Measures {
+ public:
+  static std::vector<MeasureInfo> info();
+  Measures(const FoucaultPendulum& sys, double h, long N, const Reference& ref);
+  void operator()(long j, double t, const Vec<double, 2>& q);  // every q_j, j = 0..N, in order
+  std::vector<double> values() const;
+
+ private:
+  FoucaultParams<double> p_;
+  const Reference& ref_;
+  double h_, alpha_, s_, r0_, E0_;
+  long stride_;  // reference rows per step
+  Vec2<double> qm_, q_;
+  double t_ = 0;
+  double energy_err_ = 0, plane_err_ = 0, min_r_;
+  PlaneTurns plane_;
 };
 
 namespace detail {
