@@ -109,10 +109,11 @@ bench: build
 	@echo
 	@PYTHONPATH=$(BUILD)/python /usr/bin/python3 experiments/bench_python.py
 
-# docs/programs.md from the programs' --help (a test holds the file to the build).
+# docs/programs.md from the programs' --help, docs/systems.md from the registry (tests hold both to the build).
 reference: build
 	@/usr/bin/python3 python/reference.py $(BUILD)/experiments > docs/programs.md.tmp && mv docs/programs.md.tmp docs/programs.md
-	@echo "docs/programs.md: written"
+	@/usr/bin/python3 python/reference.py --systems $(BUILD)/python > docs/systems.md.tmp && mv docs/systems.md.tmp docs/systems.md
+	@echo "docs/programs.md, docs/systems.md: written"
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
 sanitize: deps
