@@ -14,25 +14,26 @@ def load_reference():
     return module
 
 
+def assert_current(doc, expected, stale, what, otherwise):
+    """docs/<doc> must equal `expected`; else the failure names what is stale (stale(written) lists it)."""
+    with open(os.path.join(SRC, "docs", doc), encoding="utf-8") as f:
+        written = f.read()
+    if written != expected:
+        raise AssertionError(f"docs/{doc} is stale (run `make reference`); {what}: "
+                             + (", ".join(stale(written)) or otherwise))
+
+
 def test_program_reference_is_current():
     reference = load_reference()
-    with open(os.path.join(SRC, "docs", "programs.md"), encoding="utf-8") as f:
-        written = f.read()
-    expected = reference.render(BIN)
-    if written != expected:
-        stale = [name for name in reference.programs(BIN) if reference.help_text(BIN, name) not in written]
-        raise AssertionError("docs/programs.md is stale (run `make reference`); programs whose --help differs: "
-                             + (", ".join(stale) or "none (the list of programs or the header changed)"))
+    assert_current("programs.md", reference.render(BIN),
+                   lambda written: [name for name in reference.programs(BIN) if reference.help_text(BIN, name) not in written],
+                   "programs whose --help differs", "none (the list of programs or the header changed)")
 
 
 def test_systems_reference_is_current():
     import geomint
 
     reference = load_reference()
-    with open(os.path.join(SRC, "docs", "systems.md"), encoding="utf-8") as f:
-        written = f.read()
-    expected = reference.render_systems(geomint)
-    if written != expected:
-        stale = [name for name in geomint.systems() if f"\n## {name}\n" not in written]
-        raise AssertionError("docs/systems.md is stale (run `make reference`); systems missing: "
-                             + (", ".join(stale) or "none (a parameter, scheme or expectation changed)"))
+    assert_current("systems.md", reference.render_systems(geomint),
+                   lambda written: [name for name in geomint.systems() if f"\n## {name}\n" not in written],
+                   "systems missing", "none (a parameter, scheme or expectation changed)")
