@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 #include <tuple>
+#include <vector>
 
 #include "geomint/generic/fast_path.hpp"
 #include "geomint/generic/stepper.hpp"
@@ -108,6 +109,25 @@ void check_all_fast_paths(const Sys& sys, double h, long N) {
        CHECK(d.z <= bound_p * h * 10);  // z accumulates h L per step: |L| <~ |p|^2 ~ 10 |p| here
        WARN(Sys::name << " " << C::name << ": |dq| = " << d.q << " = " << d.q / bound_q
                       << " of the bound, |dp| = " << d.p << " = " << d.p / bound_p << " of the bound");
+       if constexpr (generic::has_run_positions<Sys, C>::value) {
+         // the positions alone are the same run: every q_j and t_j to the bit
+         constexpr int n = Sys::dof;
+         std::vector<Vec<double, n>> q;
+         std::vector<double> t;
+         sys.template run_fast<C>(h, N, [&](const generic::StepView<double, n, Sys::constraints>& v) {
+           q.push_back(v.q);
+           t.push_back(v.t);
+         });
+         long count = 0, differ = 0;
+         sys.template run_positions<C>(h, N, [&](long j, double tj, const Vec<double, n>& qj) {
+           const auto k = static_cast<std::size_t>(j);
+           if (j != count++ || k >= q.size() || !(qj.array() == q[k].array()).all() || tj != t[k]) ++differ;
+         });
+         INFO(Sys::name << " " << C::name << ": run_positions differs from run_fast at " << differ << " of " << count
+                        << " steps");
+         CHECK(count == N + 1);
+         CHECK(differ == 0);
+       }
      }()),
      ...);
   }, typename Sys::fast_paths{});

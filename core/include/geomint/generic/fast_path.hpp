@@ -21,10 +21,16 @@
 //   template <class X, class R, class Observer> void run_fast(R h, long N, Observer&& observe) const;
 // observe gets the StepView of every q_j, j = 0..N, in the generic schemes' terms (the discrete momentum and
 // impulse of the scheme solved), so one observer serves the generic step and every fast path.
+// A closed form whose momentum costs more than its positions (a two-step form, whose p_j is the generic scheme's
+// Legendre transform computed beside it) may also give the positions alone, for the runs that read only q (an
+// error, a timing):
+//   template <class X, class R, class Observer> void run_positions(R h, long N, Observer&& observe) const;
+// observe(j, t_j, q_j) for j = 0..N, the same q_j as run_fast's.
 #include <optional>
 #include <string>
 #include <tuple>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "geomint/error.hpp"
@@ -56,6 +62,17 @@ struct StepView {
 GEOMINT_DETECT_TYPE(fast_paths_of, fast_paths)
 GEOMINT_DETECT_TYPE(extra_schemes_of, extra_schemes)
 #undef GEOMINT_DETECT_TYPE
+
+struct PositionSink {
+  template <class V>
+  void operator()(long, double, const V&) const {}
+};
+template <class Sys, class X, class = void>
+struct has_run_positions : std::false_type {};
+template <class Sys, class X>
+struct has_run_positions<Sys, X,
+                         std::void_t<decltype(std::declval<const Sys&>().template run_positions<X>(1.0, 1L, PositionSink{}))>>
+    : std::true_type {};
 
 template <class X, class = void>
 struct has_alias : std::false_type {};

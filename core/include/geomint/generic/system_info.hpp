@@ -82,13 +82,24 @@ void require_path(Path path) {
   }
 }
 
-template <class Sys, class X, class Observer>
+// positions_only: the observer reads only j, t and q, so a closed form that has run_positions runs it (the
+// view's p, z and lambda are then missing values).
+template <class Sys, class X, bool positions_only = false, class Observer>
 void drive(const Sys& sys, double h, long N, Path path, Observer&& observe) {
   constexpr int n = Sys::dof, m = Sys::constraints;
   require_path<Sys, X>(path);
   using C = runner_of_t<Sys, X>;
   if constexpr (!std::is_void_v<C>) {
     if (effective_path<Sys, X>(path) == Path::fast) {
+      if constexpr (positions_only && has_run_positions<Sys, C>::value) {
+        const Vec<double, n> p = Vec<double, n>::Constant(missing_value);
+        const Vec<double, m> lambda = Vec<double, m>::Constant(missing_value);
+        sys.template run_positions<C>(h, N, [&](long j, double t, const Vec<double, n>& q) {
+          if (!q.allFinite()) throw NumericalFailure(j, "state", "the closed form's q is not finite");
+          observe(StepView<double, n, m>{j, t, q, p, missing_value, lambda}, -1);
+        });
+        return;
+      }
       // A closed form has no Newton to fail: an overflow (a damping of 1e308) is caught here, where it happens,
       // instead of reaching a table as nan.
       sys.template run_fast<C>(h, N, [&](const auto& view) {
@@ -319,7 +330,8 @@ Run run_composition(const Sys& sys, const CompositionFamily& family, const std::
 }
 
 
-// Calls observe(StepView) at every q_j, j = 0..N, of the scheme or composition `name`. The observer is a
+// Calls observe(StepView) at every q_j, j = 0..N, of the scheme or composition `name`; the observer reads only
+// j, t and q (a closed form may leave p, z and lambda missing). The observer is a
 // std::function, so every error and measure of a run shares one instantiation of each scheme's loop (an indirect
 // call a step costs nothing beside a step; build time is a budget).
 template <class Sys>
@@ -342,7 +354,7 @@ void for_each_step_named(const Sys& sys, const std::string& name, double h, Path
   visit_scheme<Sys>(name, [&](auto g) {
     using G = decltype(g);
     try {
-      drive<Sys, G>(sys, h, N, path, [&](const StepView<double, n, m>& s, int) { observe(s); });
+      drive<Sys, G, true>(sys, h, N, path, [&](const StepView<double, n, m>& s, int) { observe(s); });
     } catch (const NumericalFailure& e) {
       throw e.within(context<Sys, G>(sys, h, path));
     }
@@ -706,7 +718,8 @@ SystemInfo make_system_info() {
       double last = 0;
       const auto st = time_per_call(
           [&] {
-            drive<Sys, G>(sys, h, N, path, [&](const StepView<double, Sys::dof, Sys::constraints>& v, int) { last = v.q(0); });
+            drive<Sys, G, true>(sys, h, N, path,
+                                [&](const StepView<double, Sys::dof, Sys::constraints>& v, int) { last = v.q(0); });
             do_not_optimize(last);
           },
           reps);

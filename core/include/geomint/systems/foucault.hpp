@@ -546,6 +546,10 @@ struct FoucaultPendulum : FoucaultDynamics<FoucaultPendulum> {
   // carry z), lambda the impulse of the step into q_j.
   template <class Self, class C, class R, class Observer>
   static void run_as_generic(const Self& self, R h, long N, Observer&& observe);
+  // The same q_j alone: observe(j, t_j, q_j). The two-step forms carry no momentum, so the generic p_j (and z_j)
+  // beside them cost more than the step itself; a run that reads only q skips them.
+  template <class Self, class C, class R, class Observer>
+  static void positions_of(const Self& self, R h, long N, Observer&& observe);
 };
 
 // What a convergence study measures on a run of either constraint beyond the error in q (SystemInfo::measures),
@@ -837,6 +841,10 @@ struct Foucault : FoucaultPendulum, PaperConstraint<Foucault> {
   void run_fast(R h, long N, Observer&& observe) const {
     run_as_generic<Foucault, C>(*this, h, N, observe);
   }
+  template <class C, class R, class Observer>
+  void run_positions(R h, long N, Observer&& observe) const {
+    positions_of<Foucault, C>(*this, h, N, observe);
+  }
 };
 
 // The remedy: in polar coordinates q = r e(theta), (13) reads r^2 (theta' + s) = 0, so on consistent data the
@@ -906,6 +914,10 @@ struct FoucaultRotation : FoucaultPendulum, RotationConstraint<FoucaultRotation>
   template <class C, class R, class Observer>
   void run_fast(R h, long N, Observer&& observe) const {
     run_as_generic<FoucaultRotation, C>(*this, h, N, observe);
+  }
+  template <class C, class R, class Observer>
+  void run_positions(R h, long N, Observer&& observe) const {
+    positions_of<FoucaultRotation, C>(*this, h, N, observe);
   }
 };
 
@@ -977,6 +989,18 @@ void FoucaultPendulum::run_as_generic(const Self& self, R h, long N, Observer&& 
     qlast = st.qn;
   });
   observe(generic::StepView<R, 2, 1>{N, R(N) * h, qlast, pj, z, lambda});
+}
+
+template <class Self, class C, class R, class Observer>
+void FoucaultPendulum::positions_of(const Self& self, R h, long N, Observer&& observe) {
+  const FoucaultParams<R> p(self);
+  const Vec<R, 2> q0 = self.template initial_position<R>(), v0 = self.template initial_velocity<R>();
+  Vec<R, 2> qlast = q0;
+  run_closed_form<C>(self, p, q0, v0, h, N, FoucaultStart::legendre, [&](const FoucaultStep<R>& st) {
+    observe(st.j, st.t, st.q);
+    qlast = st.qn;
+  });
+  observe(N, R(N) * h, qlast);
 }
 
 // Calls f(Foucault{}) or f(FoucaultRotation{}) for a system name, or for the name of its discretization of (13)
