@@ -15,7 +15,7 @@ CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WE
 # templates cost more than they save at run time (61 s -> 40 s for the knife edge's unit).
 SANITIZE_OPT := -Og -g1 -DNDEBUG
 # Every figure and table with the paper's defaults, in this order.
-FIGURES   := fig1_oscillator backward_error stability_oscillator fig2_foucault anomaly_foucault modified_equation modified_agreement nonholonomic_modified
+FIGURES   := fig1_oscillator backward_error stability fig2_foucault anomaly_foucault modified_equation modified_agreement nonholonomic_modified
 
 # Figures of the generic core's systems, the paper's settings among them: one "program arguments..." per line.
 define FIGURE_COMMANDS
@@ -36,7 +36,7 @@ integrate --system knife-edge --scheme la
 integrate --system knife-edge --scheme contact-trapezoid
 ensemble --system knife-edge --scheme la --runs 2000
 work_precision --system pendulum
-stability_oscillator --system coupled-oscillators --n 60
+stability --system coupled-oscillators --n 60
 long_horizon_oscillator
 long_horizon_foucault
 long_horizon_forced

@@ -35,10 +35,10 @@ TEST_CASE("generic programs refuse bad input with one line, exit 2, and write no
       {"work_precision", "--system pendulum --schemes nosuch", "unknown scheme 'nosuch'"},
       {"work_precision", "--system pendulum --h-max 0.3", "not an integer"},
       {"work_precision", "--norm 3", "unknown norm '3'"},
-      {"stability_oscillator", "--system pendulum", "stability maps need a linear system"},
-      {"stability_oscillator", "--system coupled-oscillators --alpha 0.1", "alpha is an axis of the map"},
-      {"stability_oscillator", "--q0 1", "take no system parameters"},
-      {"stability_oscillator", "--system coupled-oscillators --schemes nosuch", "unknown scheme 'nosuch'"},
+      {"stability", "--system pendulum", "stability maps need a linear system"},
+      {"stability", "--system coupled-oscillators --alpha 0.1", "alpha is an axis of the map"},
+      {"stability", "--q0 1", "take no system parameters"},
+      {"stability", "--system coupled-oscillators --schemes nosuch", "unknown scheme 'nosuch'"},
   };
   for (const auto& b : bad) check_rejected(b.program, b.args, b.expect);
 }

@@ -622,8 +622,8 @@ TEST_CASE("probe: a refusal that comes after the output folder was made leaves n
   // refused only once the run's folder exists (the values overflow inside the computation, or T/h is checked late):
   // the folders the run created, nested ones included, are removed again; a folder that was there stays
   const std::vector<std::pair<std::string, std::vector<std::string>>> late{
-      {"stability_oscillator", {"--alpha-max", "1e308"}},
-      {"stability_oscillator", {"--alpha-min", "1e-320"}},
+      {"stability", {"--alpha-max", "1e308"}},
+      {"stability", {"--alpha-min", "1e-320"}},
       {"fig1_oscillator", {"--T", "4e-320", "--h", "4e-320"}}};
   for (const auto& [program, args] : late) {
     const auto base = fresh_dir("probe-late");

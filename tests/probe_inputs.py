@@ -48,7 +48,7 @@ BASE = {
     "modified_equation": ["--order", "2"],
     "nonholonomic_modified": ["--systems", "knife-edge", "--orders", "1", "--radii", "3"],
     "regularized_error": ["--T", "10"],
-    "stability_oscillator": ["--n", "10"],
+    "stability": ["--n", "10"],
     "work_precision": ["--reps", "1", "--h-min", "0.01"],
 }
 # Google-benchmark programs whose every accepted run takes minutes: a shorter cap (still under 20 s)
@@ -361,9 +361,9 @@ SPECIAL = [
     ("fig1_oscillator", ["--T", "4e6"]),
     ("bench_steps", ["--steps", "1e15"]),
     ("bench_steps", ["--reps", "2147483647"]),
-    ("stability_oscillator", ["--alpha-max", "1e308"]),
-    ("stability_oscillator", ["--h-max", "1e308"]),
-    ("stability_oscillator", ["--alpha-min", "1e-320"]),
+    ("stability", ["--alpha-max", "1e308"]),
+    ("stability", ["--h-max", "1e308"]),
+    ("stability", ["--alpha-min", "1e-320"]),
     ("work_precision", ["--h-max", "nan"]),
     ("work_precision", ["--T", "1e308"]),
     ("fig2_foucault", ["--sample-dt", "1e300"]),
@@ -394,10 +394,10 @@ SPECIAL = [
     ("ensemble", ["--threads", "0"]),
     ("anomaly_foucault", ["--threads", "4096"]),
     ("anomaly_foucault", ["--runs", "1000000"]),
-    ("stability_oscillator", ["--n", "100000"]),
-    ("stability_oscillator", ["--n", "100000", "--no-budget"]),
-    ("stability_oscillator", ["--h-min", "10", "--h-max", "0.01"]),
-    ("stability_oscillator", ["--h-min", "1", "--h-max", "1"]),
+    ("stability", ["--n", "100000"]),
+    ("stability", ["--n", "100000", "--no-budget"]),
+    ("stability", ["--h-min", "10", "--h-max", "0.01"]),
+    ("stability", ["--h-min", "1", "--h-max", "1"]),
     ("convergence", ["--h-min", "1e-300"]),
     ("convergence", ["--h-min", "1e-300", "--no-budget"]),
     ("convergence", ["--h-max", "0.001", "--h-min", "0.1"]),
@@ -548,7 +548,7 @@ def phase_formulas(log):
         run_one(log, "formulas", "integrate", ["--system-file", path, "--T", "2"], nonsense=bool(nons),
                 review=nons is None, extra_note="formula:" + name)
     # the same malformed files in other programs that take --system-file
-    for prog in ("convergence", "ensemble", "modified_equation", "regularized_error", "stability_oscillator",
+    for prog in ("convergence", "ensemble", "modified_equation", "regularized_error", "stability",
                  "work_precision"):
         for name in ("syntax", "div0_L", "shell_subst", "name_slash", "T_huge", "good"):
             path = os.path.join(d, name + ".geomint")
@@ -563,7 +563,7 @@ def hash_tree(p):
 def phase_signals(log):
     sigs = ["INT", "TERM", "HUP", "QUIT", "XFSZ", "USR1", "USR2", "ALRM"]
     jobs = [("integrate", ["--path", "generic", "--T", "1e6", "--h", "0.01", "--every", "1000"]),
-            ("stability_oscillator", ["--n", "400"]),
+            ("stability", ["--n", "400"]),
             ("ensemble", ["--runs", "20000", "--T", "200"])]
     for prog, args in jobs:
         # a previous output set into pre

@@ -39,10 +39,10 @@ const BadInput bad_inputs[] = {
     {"backward_error", "--T 0", "T must be a positive"},
     {"work_precision", "--alpha nan", "alpha must be a non-negative"},
     {"work_precision", "--reps 0", "reps must be in"},
-    {"stability_oscillator", "--n 2", "n must be in"},
-    {"stability_oscillator", "--h-min 0", "h-min must be a positive"},
-    {"stability_oscillator", "--h-min 1 --h-max 0.5", "h-max must be finite and exceed"},
-    {"stability_oscillator", "--schemes nosuch", "unknown scheme"},
+    {"stability", "--n 2", "n must be in"},
+    {"stability", "--h-min 0", "h-min must be a positive"},
+    {"stability", "--h-min 1 --h-max 0.5", "h-max must be finite and exceed"},
+    {"stability", "--schemes nosuch", "unknown scheme"},
     {"work_precision", "--system foucault --alpha=-1", "alpha"},
     {"work_precision", "--baselines nosuch", "unknown baseline 'nosuch'"},
     {"work_precision", "--baselines gsl-rk8pd", "needs --adaptive-error steps"},
@@ -76,7 +76,7 @@ TEST_CASE("an unwritable output folder is refused", "[programs]") {
 }
 
 TEST_CASE("--help prints usage and exits 0", "[programs]") {
-  for (const char* p : {"fig1_oscillator", "convergence", "backward_error", "work_precision", "stability_oscillator"}) {
+  for (const char* p : {"fig1_oscillator", "convergence", "backward_error", "work_precision", "stability"}) {
     const auto r = run_program(p, "--help");
     INFO(p);
     CHECK(r.exit_code == 0);

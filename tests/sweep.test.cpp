@@ -138,8 +138,8 @@ TEST_CASE("sweep programs under mpiexec -n 2 write byte-identical files", "[swee
     int files;
   };
   for (const Case& c : {Case{"anomaly_foucault", "--runs 70 --T 400 --h 0.1 0.05 --worst 1 --threads 1", 4},
-                        Case{"stability_oscillator", "--n 24", 2},
-                        Case{"stability_oscillator", "--system coupled-oscillators --n 8", 1},
+                        Case{"stability", "--n 24", 2},
+                        Case{"stability", "--system coupled-oscillators --n 8", 1},
                         Case{"convergence", "--system pendulum --alpha 0.1 0.2 --h-min 0.02", 2},
                         Case{"modified_agreement", "--systems pendulum --schemes la contact --orders 0 1 --T 1", 2},
                         Case{"ensemble", "--system knife-edge --runs 30 --T 5 --threads 1", 2}}) {

@@ -2,7 +2,7 @@
 // Sweeps beyond one machine: independent runs split across MPI ranks and gathered on rank 0, with output
 // byte-identical to a single process. One helper for every sweep program.
 //
-// How a program adopts it (anomaly_foucault and stability_oscillator do exactly this):
+// How a program adopts it (anomaly_foucault and stability do exactly this):
 //
 //   ... parse and validate the options (every rank does, identically) ...
 //   const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);  // every rank goes on (io.hpp)

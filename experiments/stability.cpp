@@ -1,10 +1,10 @@
-// Where the oscillator schemes fail: maps over (h, alpha) of the one-step map's spectral radius, the
-// discrete decay rate and frequency relative to the exact ones, and the regions where a scheme is
-// unstable, oscillates when it should not (or the reverse), or flips sign at every step.
+// Where the schemes of a linear system fail (the oscillator's by default): maps over (h, alpha) of the one-step
+// map's spectral radius, the discrete decay rate and frequency relative to the exact ones, and the regions where a
+// scheme is unstable, oscillates when it should not (or the reverse), or flips sign at every step.
 // The analytic boundaries (from the closed-form trace and determinant) are drawn on the maps.
-//   stability_oscillator [--n 180] [--out out]   (also under mpirun -n N: the ranks share the grid cells)
-// Writes out/stability_oscillator.tsv (one row per scheme and grid cell), out/stability_boundaries.tsv and
-// out/stability_oscillator_{regions,decay,frequency}.{png,pdf}.
+//   stability [--n 180] [--out out]   (also under mpirun -n N: the ranks share the grid cells)
+// Writes out/oscillator_stability.tsv (one row per scheme and grid cell), out/oscillator_stability_boundaries.tsv and
+// out/oscillator_stability_{regions,decay,frequency}.{png,pdf}.
 // Any other linear system of the registry (e.g. --system coupled-oscillators) gets the same maps over (h, alpha)
 // for every scheme built from it: the one-step matrix of the generic step, classified by its eigenvalues against
 // the continuous generator's (out/<system>_stability.tsv and out/<system>_stability_{regions,decay,frequency}).
@@ -27,14 +27,15 @@ int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<s
                       double h_max, double a_min, double a_max);
 
 int main(int argc, char** argv) {
-  return guarded_main("stability_oscillator", [&] {
+  return guarded_main("stability", [&] {
     int n = 180;  // 180 x 180 per scheme: 4x the cells of the first version, in less time (binary heat maps)
     double h_min = 1e-2, h_max = 10, a_min = 1e-3, a_max = 10;
     std::vector<std::string> names{"la", "la-printed", "contact", "la-midpoint", "contact-sym", "leapfrog", "conformal-strang"};
-    Cli cli("stability_oscillator",
-            "stability and fidelity maps of the oscillator schemes over (h, alpha).\n"
-            "On the oscillator (the default system) alpha is an axis and no other parameter enters a one-step map: the\n"
-            "maps take none of its parameters below. Another linear system (--system X) takes its own.");
+    Cli cli("stability",
+            "stability and fidelity maps of a linear system's schemes over (h, alpha).\n"
+            "On the oscillator (the default system, with the analytic boundaries of its closed forms) alpha is an axis\n"
+            "and no other parameter enters a one-step map: the maps take none of its parameters below. Another linear\n"
+            "system (--system X) takes its own.");
     SystemOptions sysopt(cli, argc, argv, "oscillator", false);
     bool names_given = false;
     cli.options.add_options()("n", po::value(&n)->default_value(n), "grid points per axis (log-spaced)")(
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
           return out;
         });
     if (!sweep.root()) return 0;
-    TsvWriter tsv(dir / "stability_oscillator.tsv", "stability_oscillator", params,
+    TsvWriter tsv(dir / "oscillator_stability.tsv", "stability", params,
                   {"scheme", "h", "alpha", "spectral_radius", "region", "decay_ratio", "freq_ratio"});
     const int width = name_width(names, 12);
     std::printf("%-*s %10s %10s %10s %10s   (share of the grid)\n", width, "scheme", "faithful", "wrong-char", "sign-flip",
@@ -108,15 +109,15 @@ int main(int argc, char** argv) {
                   count[3] / tot);
     }
     tsv.commit();
-    TsvWriter bt(dir / "stability_boundaries.tsv", "stability_oscillator", params, {"scheme", "h", "alpha", "below", "above"});
+    TsvWriter bt(dir / "oscillator_stability_boundaries.tsv", "stability", params, {"scheme", "h", "alpha", "below", "above"});
     std::vector<double> fine_a;
     for (int i = 0; i < 400; ++i) fine_a.push_back(a_min * std::pow(a_max / a_min, i / 399.0));
     for (const auto& s : names)
       for (const auto& b : analytic_boundaries(s, fine_a, h_min, h_max)) bt.row(s, b.h, b.alpha, region_name(b.below), region_name(b.above));
     bt.commit();
 
-    const auto t = plots::read_tsv(dir / "stability_oscillator.tsv");
-    const auto bd = plots::read_tsv(dir / "stability_boundaries.tsv");
+    const auto t = plots::read_tsv(dir / "oscillator_stability.tsv");
+    const auto bd = plots::read_tsv(dir / "oscillator_stability_boundaries.tsv");
     struct Map {
       const char* stem;
       const char* column;
@@ -158,7 +159,7 @@ int main(int argc, char** argv) {
         if (!bx.empty()) p.series.push_back({bx, by, "analytic boundaries", "points pt 7 ps 0.15 lc rgb 'black'"});
         fig.panels.push_back(std::move(p));
       }
-      fig.draw(dir / (std::string("stability_oscillator_") + mp.stem));
+      fig.draw(dir / (std::string("oscillator_stability_") + mp.stem));
     }
     return 0;
   });
@@ -224,7 +225,7 @@ int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<s
                                {"alpha", format_number(a_min) + ".." + format_number(a_max) + " log"},
                                {"classification", "eigenvalues of the one-step matrix on (q, p) against exp(h C)"}});
   const std::string stem = sys.name + "_stability";
-  TsvWriter tsv(dir / (stem + ".tsv"), "stability_oscillator", params,
+  TsvWriter tsv(dir / (stem + ".tsv"), "stability", params,
                 {"scheme", "h", "alpha", "spectral_radius", "region", "decay_ratio", "freq_low", "freq_high"});
   const int width = name_width(names, 18);
   std::printf("%s: %-*s %10s %10s %10s %10s   (share of the grid)\n", sys.name.c_str(), width, "scheme", "faithful",
