@@ -110,3 +110,9 @@ TEST_CASE("foucault, both constraints: Newton's Jacobian, lambda columns from th
   rotation.Omega = 0.05;
   check_linearization(rotation, 0.1);
 }
+
+TEST_CASE("foucault: contact-trapezoid with z_{j+1} solved inside the rows is the step with z_{j+1} an unknown", "[generic][newton]") {
+  systems::Foucault paper;
+  paper.Omega = 0.05;
+  check_z_elimination(paper, 0.01, 400);  // the paper's horizon, T = 4 s
+}

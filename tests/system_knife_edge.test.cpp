@@ -24,3 +24,7 @@ TEST_CASE("the kinetic-metric projection puts the initial velocity on the constr
 TEST_CASE("knife edge: Newton's Jacobian, lambda columns from the rows, is the full forward pass's", "[generic][newton]") {
   check_linearization(systems::KnifeEdge{}, 0.1);
 }
+
+TEST_CASE("knife edge: contact-trapezoid with z_{j+1} solved inside the rows is the step with z_{j+1} an unknown", "[generic][newton]") {
+  check_z_elimination(systems::KnifeEdge{}, 0.1, 2000);
+}

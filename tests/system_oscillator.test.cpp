@@ -49,3 +49,32 @@ TEST_CASE("oscillator: equations derived from L equal the hand-written ones, the
   check_equations(systems::Oscillator{});
   check_exact_solves(systems::Oscillator{}, 2.0);
 }
+
+TEST_CASE("oscillator: contact-trapezoid with z_{j+1} solved inside the rows (one update, the affine step map) is the "
+          "step with z_{j+1} an unknown", "[generic][newton]") {
+  for (double alpha : {0.01, 0.5}) {
+    systems::Oscillator sys;
+    sys.alpha = alpha;
+    check_z_elimination(sys, 0.1, 2000);
+  }
+}
+
+namespace {
+// Linear in (q, q') with a Rayleigh force, but its Herglotz Lagrangian is quadratic in z: a `linear` declaration that
+// only the action row shows to be wrong (the rows in q_{j+1} stay affine).
+struct QuadraticInZ : systems::Oscillator {
+  template <class S>
+  S herglotz(const S& t, const Vec<S, 1>& q, const Vec<S, 1>& v, const S& z) const {
+    return lagrangian(t, q, v) - alpha * z - z * z / 2;
+  }
+};
+}  // namespace
+
+TEST_CASE("a linear system whose Herglotz Lagrangian is not affine in z is caught by the action row's check", "[generic][newton]") {
+  // Declared linear, contact-trapezoid takes z_{j+1} from one Newton update of its action row, exact only when the
+  // row is affine in z_{j+1}; the check of every 256th step of the shortcuts finds the row above round-off.
+  QuadraticInZ sys;
+  generic::Stepper<QuadraticInZ, generic::ContactTrapezoid> st(sys, 0.1);
+  st.start(sys.initial_position<double>(), sys.initial_velocity<double>());
+  CHECK_THROWS_WITH([&] { for (int j = 0; j < 600; ++j) st.step(); }(), Catch::Contains("is not affine in z_{j+1}"));
+}

@@ -36,6 +36,10 @@ TEST_CASE("a system that wrongly declares itself linear is caught by the single-
   CHECK(so.total_updates() == 20000);
 }
 
-TEST_CASE("pendulum: Newton's Jacobian (z_{j+1} implicit for contact-trapezoid) is the full forward pass's", "[generic][newton]") {
+TEST_CASE("pendulum: Newton's Jacobian (z_{j+1} solved inside the rows for contact-trapezoid) is the full forward pass's", "[generic][newton]") {
   testing::check_linearization(systems::Pendulum{}, 0.1);
+}
+
+TEST_CASE("pendulum: contact-trapezoid with z_{j+1} solved inside the rows is the step with z_{j+1} an unknown", "[generic][newton]") {
+  testing::check_z_elimination(systems::Pendulum{}, 0.1, 2000);
 }

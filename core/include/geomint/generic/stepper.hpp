@@ -6,6 +6,8 @@
 //   the Jacobian    assembled here by forward-mode AD of the rows (one pass of Dual<T, K>): J, dp/dx, dz/dx
 //   the solve       JacobianInverse, the stopping rule and Newton's Jacobian policy (generic/newton.hpp)
 //   the predictor   the initial guess from the last steps (generic/predictor.hpp)
+//   the action row  of a quadrature implicit in z (contact-trapezoid), solved for z_{j+1} inside the rows, so that
+//                   Newton's unknowns are (q_{j+1}, lambda) as for every other scheme (solved_z below)
 //   two shortcuts   for systems that declare themselves `linear` (one Newton update solves every step: the
 //                   single-update path) and also `autonomous` (the whole step is one fixed affine map:
 //                   generic/affine_step_map.hpp), each verified every kVerify-th step.
@@ -31,12 +33,15 @@
 
 namespace geomint::generic {
 
-template <class Sys, class Scheme, class T = double>
+// EliminateZ = false keeps z_{j+1} of an implicit-z quadrature as a Newton unknown beside q_{j+1} and lambda: the
+// step as the scheme's rows state it, which the tests hold the default (z_{j+1} solved inside the rows) to.
+template <class Sys, class Scheme, class T = double, bool EliminateZ = true>
 class Stepper {
  public:
   static constexpr int n = Sys::dof;
   static constexpr int m = Sys::constraints;
-  static constexpr int nz = Scheme::implicit_z ? 1 : 0;
+  static constexpr bool eliminate_z = Scheme::implicit_z && EliminateZ;
+  static constexpr int nz = Scheme::implicit_z && !eliminate_z ? 1 : 0;
   static constexpr int K = n + nz + m;
   static constexpr int Nx = n + nz;  // the unknowns the rows depend on nonlinearly: all but lambda
   using VecN = Vec<T, n>;
@@ -123,6 +128,42 @@ class Stepper {
     return l;
   }
 
+  // z_{j+1} of an implicit-z quadrature at the given q_{j+1}, from the current state: its action row
+  // z_{j+1} = z_j + 𝓛(q_j, q_{j+1}, z_j, z_{j+1}) solved by Newton in z_{j+1} alone, to round-off (the row's
+  // own scale, as Newton's stopping rule measures every row). In the Jacobian's duals the result carries
+  // dz_{j+1}/dq_{j+1}: Newton's map has zero derivative at its fixed point, so the last update from a converged
+  // value gives the implicit function's derivative. When 𝓛 is affine in z_{j+1} (every Lagrangian L - alpha z)
+  // the first update is exact and a second only confirms it; a system that declares itself linear has that
+  // (its Herglotz equations are linear), so it takes the one update, and the check every kVerify-th step of the
+  // shortcuts holds the action row to round-off. With z_{j+1} gone from the unknowns, a step is a system in
+  // (q_{j+1}, lambda) as for every other scheme: one fewer direction in every dual, and a linear system's rows
+  // are affine in them again, so its shortcuts apply.
+  template <class S>
+  S solved_z(const Vec<S, n>& q1) const {
+    using std::abs;
+    using Quad = typename Scheme::quadrature;
+    using Z = Dual<S, 1>;
+    const S t = S(s_.t), h = S(h_), z0 = S(s_.z);
+    const Vec<S, n> q0 = s_.q.template cast<S>();
+    const Vec<Z, n> Q0 = q0.template cast<Z>(), Q1 = q1.template cast<Z>();
+    const T tol = StoppingRule<T, K>::tolerance(), fl = StoppingRule<T, K>::floor();
+    // the start: the explicit estimate z_j + 𝓛(.., z_j, z_j), O(h^2) from the solution, or z_j for one exact update
+    S z1 = z0;
+    if constexpr (!is_linear<Sys>()) z1 += Quad::action(sys_, t, h, q0, q1, z0, z0);
+    for (int k = 0; k < max_updates; ++k) {
+      const Z L = Quad::action(sys_, Z(t), Z(h), Q0, Q1, Z(z0), Z::variable(z1, 0));
+      const S r = z1 - z0 - L.v;
+      // the floor compared, not added: arithmetic on a subnormal costs a microcode assist
+      const T size = abs(primal(r));
+      const bool done = size <= tol * (abs(primal(z1)) + abs(primal(z0)) + abs(primal(L.v))) || size <= fl;
+      z1 -= r / (S(1) - L.d[0]);
+      if (done || is_linear<Sys>()) return z1;
+    }
+    throw NumericalFailure(s_.j + 1, "newton",
+                           "the action row z_{j+1} = z_j + L_d did not converge in z_{j+1} (t = " +
+                               show(static_cast<double>(s_.t)) + ")");
+  }
+
  private:
   // Solves the step from s_ starting at `guess` and moves s_ to its result (all but the time).
   void advance(const VecK& guess) {
@@ -159,6 +200,7 @@ class Stepper {
     const Vec<S, n> q1 = x.template head<n>();
     S z1 = S(s_.z);
     if constexpr (nz == 1) z1 = x(n);
+    if constexpr (eliminate_z) z1 = solved_z<S>(q1);
     Vec<S, m> lambda;
     if constexpr (m > 0)
       lambda = x.template tail<m>();
@@ -235,7 +277,7 @@ class Stepper {
         out_, [&](const VecK& R, const VecK& bounds, int u, const char* why) { fail(R, bounds, u, why); }, updates,
         is_linear<Sys>());
     // a linear system takes the single-update path once its Jacobian has solved a step in one update
-    if constexpr (is_linear<Sys>() && !Scheme::implicit_z)
+    if constexpr (is_linear<Sys>() && nz == 0)
       if (updates == 1 && newton_.jacobian_kept() && predictor_.history() >= 1) single_update_ = true;
     last_updates_ = updates;
     total_updates_ += updates;
@@ -246,10 +288,11 @@ class Stepper {
   // The shortcuts of linear systems
   //
   // A system that declares itself linear (L quadratic in (q, q'), F and Phi affine: `static constexpr bool
-  // linear = true`) has, with a quadrature explicit in z, a residual and outputs p_{j+1} affine in the unknowns:
-  // one Newton update from any point is the solution (to the round-off of the linear solve), and p_{j+1} moves
-  // with it exactly by its derivative. So one evaluation per step, at the predictor (the single-update path).
-  // z_{j+1} = z_j + 𝓛 (quadratic in q_{j+1}) is evaluated at the solution in plain arithmetic. The declaration is
+  // linear = true`) has, with z_{j+1} not among the unknowns (explicit in the quadrature, or solved inside the
+  // rows), a residual and outputs p_{j+1} affine in the unknowns: one Newton update from any point is the solution
+  // (to the round-off of the linear solve), and p_{j+1} moves with it exactly by its derivative. So one evaluation
+  // per step, at the predictor (the single-update path). z_{j+1} (z_j + 𝓛, or the solved action row: quadratic in
+  // q_{j+1}) is evaluated at the solution in plain arithmetic. The declaration is
   // checked: the first steps and every kVerify-th step go through the full Newton solve with its stopping rule,
   // and a step whose residual is not then at round-off throws.
   //
@@ -258,7 +301,7 @@ class Stepper {
   // Newton update, exact for an affine residual) at the zero input and at each unit input — and verified like
   // the single-update path. z_{j+1} is still evaluated as above.
   static constexpr long kVerify = 256;
-  static constexpr bool kAffineMap = is_linear<Sys>() && is_autonomous<Sys>() && !Scheme::implicit_z;
+  static constexpr bool kAffineMap = is_linear<Sys>() && is_autonomous<Sys>() && nz == 0;
   static constexpr int U = 2 * n + (Scheme::contact ? 1 : 0);  // inputs of the step map
   using VecU = Vec<T, U>;
   using VecY = Vec<T, K + n>;
@@ -307,7 +350,10 @@ class Stepper {
       x += dx;
       out_.p_next += newton_.linearization().dP * dx;
     }
-    if constexpr (Scheme::contact) out_.z_next = Scheme::next_z(sys_, s_.t, h_, s_.q, VecN(x.template head<n>()), s_.z);
+    if constexpr (eliminate_z)
+      out_.z_next = solved_z<T>(VecN(x.template head<n>()));
+    else if constexpr (Scheme::contact)
+      out_.z_next = Scheme::next_z(sys_, s_.t, h_, s_.q, VecN(x.template head<n>()), s_.z);
     last_updates_ = 1;
     ++total_updates_;
     if (++shortcut_steps_ % kVerify == 0) verify_single_update(x);
@@ -317,11 +363,26 @@ class Stepper {
     VecK R, scale;
     StepOutput<T, n> scratch;
     residual(x, R, scale, scratch);
+    if constexpr (eliminate_z) verify_action_row(VecN(x.template head<n>()), out_.z_next);
     bool finite;
     const VecK w = x.cwiseAbs() + current().cwiseAbs();
     if (!StoppingRule<T, K>::residual_at_roundoff(R, scale, newton_.linearization().J, w, finite))
       fail(R, StoppingRule<T, K>::bounds(scale, newton_.linearization().J, w), 1, kAffineMap ? "the system declares itself linear and autonomous, but its affine step map did not solve the step"
                             : "the system declares itself linear, but one Newton update did not solve the step");
+  }
+
+  // The action row at the solution (z_{j+1} from one update of solved_z): at round-off when 𝓛 is affine in z_{j+1},
+  // as a linear system's is.
+  void verify_action_row(const VecN& q1, T z1) const {
+    using std::abs;
+    const T L = Scheme::quadrature::action(sys_, s_.t, h_, s_.q, q1, s_.z, z1);
+    const T r = z1 - s_.z - L;
+    const T scale = abs(z1) + abs(s_.z) + abs(L);
+    if (!(abs(r) <= StoppingRule<T, K>::tolerance() * scale || abs(r) <= StoppingRule<T, K>::floor()))
+      throw NumericalFailure(s_.j + 1, "newton",
+                             "the system declares itself linear, but its action row z_{j+1} = z_j + L_d is not affine "
+                             "in z_{j+1} (one update left " + show(static_cast<double>(r)) + " against the scale " +
+                                 show(static_cast<double>(scale)) + "; t = " + show(static_cast<double>(s_.t)) + ")");
   }
 
   // The row farthest from its round-off bound (a non-finite one first), with its size against that bound: what
