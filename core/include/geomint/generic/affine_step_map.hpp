@@ -25,6 +25,8 @@ class AffineStepMap {
   bool ready() const { return ready_; }
   void reset() { ready_ = false; }
   VecY apply(const VecU& u) const { return c_ + G_ * u; }
+  // No output depends on input i.
+  bool column_zero(int i) const { return (G_.col(i).array() == T(0)).all(); }
 
  private:
   bool ready_ = false;

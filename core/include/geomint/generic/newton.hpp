@@ -97,6 +97,12 @@ struct StoppingRule {
     }
     return ok;
   }
+  // One scalar row at round-off against its scale (the sum of its terms' sizes). The floor is compared, not
+  // added: arithmetic on a subnormal costs a microcode assist.
+  static bool scalar_at_roundoff(T r, T scale) {
+    using std::abs;
+    return abs(r) <= tolerance() * scale || abs(r) <= floor();
+  }
   // The update moves every unknown by less than kappa eps of its size.
   static bool update_at_roundoff(const VecK& dx, const VecK& w) { return within(dx, w, tolerance()); }
   // The update is within two ulps of every unknown: applying it would change nothing worth an operation.
