@@ -26,6 +26,7 @@
 
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
+#include "geomint/scene_options.hpp"
 #include "geomint/error.hpp"
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/io.hpp"
@@ -70,7 +71,6 @@ int main(int argc, char** argv) {
                               "runs per (scheme, constraint, alpha, h), each with its own time shift tau")(
         "h", po::value(&hs)->multitoken()->default_value(hs, "0.1 0.05 0.02 0.01 0.005"), "step sizes")(
         "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "1e-3 1e-4"), "damping values")(
-        "T", po::value(&base.T)->default_value(base.T), "horizon, s")(
         "schemes", po::value(&names)->multitoken()->default_value(names, "la-nh contact-nh"), "schemes")(
         "constraints", po::value(&constraint_names)->multitoken()->default_value(constraint_names, "paper rotation"),
         "discretizations of (13): paper, rotation")(
@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
         "rerun in quad from t = 0 up to this many steps; longer: from the double state one half-swing before")(
         "simd", po::value(&simd_name)->default_value(simd_name),
         "ensemble kernel: best, scalar (one run at a time), sse2, avx2, avx512 (same bits for every choice)");
+    add_scene_options(cli, base, {"alpha"});
     if (!cli.parse(argc, argv)) return 0;
 
     // Validate everything before writing anything.

@@ -18,6 +18,7 @@
 #include <map>
 
 #include "geomint/cli.hpp"
+#include "geomint/scene_options.hpp"
 #include "geomint/error.hpp"
 #include "geomint/foucault_diagnostics.hpp"
 #include "geomint/observers.hpp"
@@ -50,23 +51,14 @@ int main(int argc, char** argv) {
     cli.options.add_options()("h", po::value(&hs)->multitoken()->default_value(hs, "0.1 0.005"),
                               "step sizes (the first is Figure 2, each further one a companion figure)")(
         "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "1e-3 1e-4"), "damping values")(
-        "T", po::value(&base.T)->default_value(base.T), "horizon, s")(
         "start", po::value(&start_name)->default_value(start_name), "starting procedure: legendre or taylor")(
         "constraint", po::value(&constraint_name)->default_value(constraint_name),
         "discretization of (13): paper (system foucault: the third row of (15)/(18)) or rotation (system "
         "foucault-rotation: the remedy)")(
         "schemes", po::value(&names)->multitoken()->default_value(names, "la-nh contact-nh"), "schemes")(
         "sample-dt", po::value(&sample_dt)->default_value(sample_dt),
-        "keep a sample every sample-dt seconds (plus every turning point)")(
-        "m", po::value(&base.m)->default_value(base.m), "mass, kg")(
-        "l", po::value(&base.l)->default_value(base.l), "length, m")(
-        "g", po::value(&base.g)->default_value(base.g), "gravity, m/s^2")(
-        "beta", po::value(&base.beta_deg)->default_value(base.beta_deg), "latitude, degrees")(
-        "Omega", po::value(&base.Omega)->default_value(base.Omega), "Earth's angular velocity, rad/s")(
-        "x0", po::value(&base.x0)->default_value(base.x0), "initial x, m")(
-        "y0", po::value(&base.y0)->default_value(base.y0), "initial y, m")(
-        "vx0", po::value(&base.vx0)->default_value(base.vx0), "initial x', m/s")(
-        "vy0", po::value(&base.vy0)->default_value(base.vy0), "initial y', m/s");
+        "keep a sample every sample-dt seconds (plus every turning point)");
+    add_scene_options(cli, base, {"alpha"});
     if (!cli.parse(argc, argv)) return 0;
 
     // Validate everything before writing anything.

@@ -16,6 +16,7 @@
 // (rel = tol, abs = 1e-8 tol in m and m/s, so the control stays relative while the amplitude decays by e^-18 in
 // 10 h). A run that fails is a missing value with a message.
 //   long_horizon_foucault [--alpha 1e-3] [--T 3600] [--h 0.1 0.05 0.025] [--tol 1e-6 1e-8 1e-10] [--reps 3] [--out out]
+//                         [any parameter of the scene: --m --l --g --beta --Omega --x0 --y0 --vx0 --vy0]
 // The study in docs/speed-accuracy.md (the hour and 10 hours; a few minutes):
 //   long_horizon_foucault --T 3600 36000 --h 0.2 0.1 0.05 0.025 0.0125 --tol 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10 1e-11
 // Writes out/long_horizon_foucault.tsv (errors: same bits for the same command), _timings.tsv, _summary.tsv,
@@ -33,6 +34,7 @@
 #include <gsl/gsl_odeiv2.h>
 
 #include "geomint/cli.hpp"
+#include "geomint/scene_options.hpp"
 #include "geomint/error.hpp"
 #include "geomint/observers.hpp"
 #include "geomint/systems/foucault.hpp"
@@ -225,23 +227,21 @@ Point measure_point(const std::string& method, const std::string& family, const 
 
 int main(int argc, char** argv) {
   return guarded_main("long_horizon_foucault", [&] {
-    double alpha = 1e-3;
+    systems::Foucault sc;  // the scene; the rotation runs use foucault-rotation with the same parameters
     std::vector<double> horizons{3600}, hs{0.1, 0.05, 0.025}, tols{1e-6, 1e-8, 1e-10};
     int reps = 3;
     Cli cli("long_horizon_foucault", "long-horizon structural error against CPU time: damped Foucault pendulum");
-    cli.options.add_options()("alpha", po::value(&alpha)->default_value(alpha), "damping (1/s)")(
-        "T", po::value(&horizons)->multitoken(), "horizons in s (default 3600, the paper's hour)")(
+    cli.options.add_options()("T", po::value(&horizons)->multitoken(), "horizons in s (default 3600, the paper's hour)")(
         "h", po::value(&hs)->multitoken(), "steps of the fixed-step methods (each must divide every T; default 0.1 0.05 0.025)")(
         "tol", po::value(&tols)->multitoken(), "relative tolerances of the adaptive methods (default 1e-6 1e-8 1e-10)")(
         "reps", po::value(&reps)->default_value(reps), "timed repetitions");
+    add_scene_options(cli, sc, {"T"});
     if (!cli.parse(argc, argv)) return 0;
     require(!horizons.empty() && !hs.empty() && !tols.empty(), "give at least one value per list");
-    systems::Foucault sc;  // the scene; the rotation runs use foucault-rotation with the same parameters
-    sc.alpha = alpha;
     sc.validate();
     systems::FoucaultRotation sc_rotation;
     static_cast<systems::FoucaultPendulum&>(sc_rotation) = sc;
-    require(alpha > 0, "alpha must be positive (the decay rate is measured against it)");
+    require(sc.alpha > 0, "alpha must be positive (the decay rate is measured against it)");
     for (double T : horizons) require(std::isfinite(T) && T >= 100 && T <= 1e6, "T must be in [100, 1e6] s, got " + show(T));
     for (double T : horizons)
       for (double h : hs) {
@@ -302,14 +302,14 @@ int main(int argc, char** argv) {
     std::vector<WorkPoint> work;
     for (auto& pt : pts) {
       const WorkPoint& p = pt.w;
-      data.row(p.method, p.family, alpha, p.horizon, p.knob, p.value, p.steps, pt.s.turns, p.errors[0], p.errors[1],
+      data.row(p.method, p.family, sc.alpha, p.horizon, p.knob, p.value, p.steps, pt.s.turns, p.errors[0], p.errors[1],
                p.errors[2], p.errors[3], p.errors[4]);
-      tim.row(p.method, p.family, alpha, p.horizon, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
+      tim.row(p.method, p.family, sc.alpha, p.horizon, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
       const bool pick = p.horizon == horizons.back() && p.value == (p.knob == "h" ? hs.back() : tols.back());
       if (pick)
         for (const auto& [t, c] : pt.s.drift) drift.row(p.method, p.knob, p.value, t, c);
       work.push_back(p);
-      work.back().group = alpha;  // one damping: the summary's group
+      work.back().group = sc.alpha;  // one damping: the summary's group
     }
     data.commit();
     tim.commit();
@@ -331,7 +331,7 @@ int main(int argc, char** argv) {
     // The figure: the three measures against CPU time at the longest horizon, and the drift of (13) over time.
     const auto dr = plots::read_tsv(dir / "long_horizon_foucault_drift.tsv");
     plots::Figure fig;
-    fig.title = "Foucault pendulum, alpha = " + format_number(alpha) + ", T = " + format_number(horizons.back()) +
+    fig.title = "Foucault pendulum, alpha = " + format_number(sc.alpha) + ", T = " + format_number(horizons.back()) +
                 " s: structural error against CPU time (median); drift of (13) along the run";
     fig.rows = 2;
     fig.cols = 3;

@@ -449,6 +449,8 @@ const BadInput anomaly_bad_inputs[] = {
     {"--record-deg 0", "record-deg must be in"},
     {"--worst -1", "worst must be in"},
     {"--T inf", "T must be a positive"},
+    {"--l 0", "l must be a positive finite number"},
+    {"--beta 95", "beta must be a latitude"},
     {"--bogus 1", "unrecognised option"},
 };
 

@@ -23,6 +23,8 @@ TEST_CASE("long-horizon programs reject bad input with one line, exit 2, and wri
   check_rejected("long_horizon_foucault", "--T 10", "T must be in");
   check_rejected("long_horizon_foucault", "--alpha=-1", "alpha");
   check_rejected("long_horizon_foucault", "--tol 1", "tol must be in");
+  check_rejected("long_horizon_foucault", "--l -1", "l must be a positive finite number");
+  check_rejected("long_horizon_foucault", "--beta 95", "beta must be a latitude");
   check_rejected("long_horizon_forced", "--alpha 0", "alpha must be positive");
   check_rejected("long_horizon_forced", "--m 1", "m must be in");
   check_rejected("long_horizon_forced", "--periods 2", "periods must be in");
@@ -54,4 +56,20 @@ TEST_CASE("long-horizon programs give byte-identical error files for the same co
   for (const char* f : {"long_horizon_oscillator_timings.tsv", "long_horizon_oscillator_summary.tsv", "long_horizon_oscillator.png",
                         "long_horizon_foucault.png", "long_horizon_forced.png"})
     CHECK(std::filesystem::exists(a / f));
+}
+
+// The Foucault study takes the scene's parameters under the names the --system programs use, and runs the scene it
+// was given: its header (written from the scene that ran) names the values, and its errors move with them.
+TEST_CASE("long_horizon_foucault runs the scene its options describe", "[programs][long_horizon]") {
+  const auto a = fresh_dir("lh-scene-a"), b = fresh_dir("lh-scene-b");
+  const std::string common = "--T 200 --h 0.1 --tol 1e-6 --reps 1 --out ";
+  REQUIRE(run_program("long_horizon_foucault", common + a.string()).exit_code == 0);
+  REQUIRE(run_program("long_horizon_foucault", common + b.string() + " --l 50 --x0 0.5 --beta 30").exit_code == 0);
+  const std::string sa = read_bytes(a / "long_horizon_foucault.tsv"), sb = read_bytes(b / "long_horizon_foucault.tsv");
+  CHECK(sa.find("\n# l: 67\n") != std::string::npos);
+  CHECK(sb.find("\n# l: 50\n") != std::string::npos);
+  CHECK(sb.find("\n# q0: 0.5,0\n") != std::string::npos);
+  CHECK(sb.find("\n# beta_deg: 30\n") != std::string::npos);
+  // the data rows (after the header) differ: another pendulum, another run
+  CHECK(sa.substr(sa.find("\nmethod")) != sb.substr(sb.find("\nmethod")));
 }
