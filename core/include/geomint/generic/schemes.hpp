@@ -374,7 +374,15 @@ struct LagrangeDAlembert {
   template <class Sys, class S, int n = Sys::dof, int m = Sys::constraints>
   static Vec<S, n> residual(const Sys& sys, const S& t, const S& h, const Vec<S, n>& qm, const Vec<S, n>& q,
                             const Vec<S, n>& qp, const Vec<S, m>& lambda) {
-    Vec<S, n> r = minus_p_plus(sys, t, h, q, qp) + p_minus(sys, S(t - h), h, qm, q);
+    return residual_between(sys, t, h, h, qm, q, qp, lambda);
+  }
+  // The same at q_j between a step h_before (from q_{j-1}) and a step h_after (to q_{j+1}): p_j^- of the step
+  // before equals p_j^+ of the step after up to the impulse. It holds at every node of a composition's stages
+  // (the modified equations of compositions, modified/composed_residual.hpp).
+  template <class Sys, class S, int n = Sys::dof, int m = Sys::constraints>
+  static Vec<S, n> residual_between(const Sys& sys, const S& t, const S& h_before, const S& h_after, const Vec<S, n>& qm,
+                                    const Vec<S, n>& q, const Vec<S, n>& qp, const Vec<S, m>& lambda) {
+    Vec<S, n> r = minus_p_plus(sys, t, h_after, q, qp) + p_minus(sys, S(t - h_before), h_before, qm, q);
     if constexpr (m > 0) r -= sys.constraint_matrix(t, q).transpose() * lambda;
     return r;
   }
@@ -471,8 +479,15 @@ struct Herglotz {
   template <class Sys, class S, int n = Sys::dof, int m = Sys::constraints>
   static Vec<S, n> residual(const Sys& sys, const S& t, const S& h, const Vec<S, n>& qm, const Vec<S, n>& q,
                             const Vec<S, n>& qp, const S& zm, const S& z, const S& zp, const Vec<S, m>& lambda) {
-    const auto D = first_slot(sys, t, h, q, qp, z, zp);
-    Vec<S, n> r = D.dq + (S(1) + D.dz) * p_minus(sys, S(t - h), h, qm, q, zm, z);
+    return residual_between(sys, t, h, h, qm, q, qp, zm, z, zp, lambda);
+  }
+  // The same between a step h_before and a step h_after (as LagrangeDAlembert::residual_between).
+  template <class Sys, class S, int n = Sys::dof, int m = Sys::constraints>
+  static Vec<S, n> residual_between(const Sys& sys, const S& t, const S& h_before, const S& h_after, const Vec<S, n>& qm,
+                                    const Vec<S, n>& q, const Vec<S, n>& qp, const S& zm, const S& z, const S& zp,
+                                    const Vec<S, m>& lambda) {
+    const auto D = first_slot(sys, t, h_after, q, qp, z, zp);
+    Vec<S, n> r = D.dq + (S(1) + D.dz) * p_minus(sys, S(t - h_before), h_before, qm, q, zm, z);
     if constexpr (m > 0) r -= sys.constraint_matrix(t, q).transpose() * lambda;
     return r;
   }
