@@ -1,6 +1,8 @@
 // Step-by-step agreement of each discrete solution with the solution of its automatic modified equation of
 // order K, for every order: max_j |q_j - q~_K(t_j)| must fall like h^(K+1) (like h^(K+2) for even K of a
-// symmetric second-order scheme, whose odd F_k vanish). K = 0 is the original equation.
+// symmetric second-order scheme, whose odd F_k vanish; for a composition of order p, whose F_1 .. F_(p-1) vanish
+// too, like h^p for K < p). K = 0 is the original equation. Compositions ("yoshida4:la-trapezoid") cost their stage
+// problem at every evaluation: 9x (yoshida4) to 72x (kahanli8) a scheme's.
 //   modified_agreement [--systems oscillator pendulum forced-oscillator] [--schemes la contact la-trapezoid]
 //                      [--orders 0 1 2 3 4] [--h-max (0.1 for K <= 1, 0.2 for K >= 2)] [--halvings 2] [--tol 1e-13]
 //                      [--threads <cores>] [any parameter of the systems: --alpha 0.5 --T 2 --q0 ...] [--out out]
@@ -19,6 +21,7 @@
 // Writes out/modified_agreement.tsv (system, scheme, K, h, err_modified, err_z, v_shift, steps),
 // out/modified_agreement_fits.tsv (system, scheme, K, fitted_slope, expected_slope, points) and
 // out/modified_agreement.{png,pdf} (one panel per system and scheme, one line per K).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -37,16 +40,6 @@
 
 using namespace geomint;
 using namespace geomint::modified;
-
-namespace {
-
-// The order the agreement must show: the first h^k beyond K whose F_k may be nonzero.
-int expected_slope(const SystemInfo& info, const std::string& scheme, int K) {
-  const bool symmetric = info.scheme(scheme).order == 2;  // midpoint / trapezoid: odd F_k vanish
-  return K + 1 + (symmetric && K % 2 == 0 ? 1 : 0);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   return guarded_main("modified_agreement", [&] {
@@ -80,19 +73,23 @@ int main(int argc, char** argv) {
       for (int i = 0; i <= halvings; ++i) hs.push_back(h0 / std::pow(2.0, i));
       return hs;
     };
-    for (std::size_t ki = 0; ki < orders.size(); ++ki)
-      for (double h : steps_of(ki))
-        // a planned step costs ~0.5 ms (the order-K modified equation solved by Odeint at tol 1e-13 along it;
-        // measured: 2.35 s of CPU per 4410 planned steps, T = 2 -> 4 at the defaults): 1e4 cheap steps
-        for (const auto& s : systems)
-          plan_steps(static_cast<double>(schemes.size()) * static_cast<double>(step_count(h, sysopt.value(s, "T"))),
-                     "the sweep (systems x schemes x T/h per order)", 1e4);
     for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
     for (const auto& s : systems) {
       const auto& info = find_system(s);
       require(info.constraints == 0, "system '" + s + "' is constrained: use nonholonomic_modified");
       for (const auto& x : schemes) modified_scheme(info, x);
     }
+    for (std::size_t ki = 0; ki < orders.size(); ++ki)
+      for (double h : steps_of(ki))
+        // a planned step costs ~0.5 ms (the order-K modified equation solved by Odeint at tol 1e-13 along it;
+        // measured: 2.35 s of CPU per 4410 planned steps, T = 2 -> 4 at the defaults): 1e4 cheap steps, times a
+        // composition's cost factor
+        for (const auto& s : systems) {
+          double cost = 0;
+          for (const auto& x : schemes) cost += modified_cost_factor(find_system(s), x);
+          plan_steps(cost * static_cast<double>(step_count(h, sysopt.value(s, "T"))),
+                     "the sweep (systems x schemes x T/h per order)", 1e4);
+        }
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const double floor = 1e2 * tol;
     std::vector<double> order_values(orders.begin(), orders.end());
@@ -117,19 +114,21 @@ int main(int argc, char** argv) {
           for (double h : steps_of(ki)) runs.push_back({s, x, orders[ki], h});
     // Sweep order: systems innermost, so every contiguous share holds each system in the same proportion (their
     // costs differ by ~4x: the forced oscillator's Odeint runs take more steps), and the cost model need only
-    // know K: measured, a run costs about K + 2 (one series evaluation per order in each right-hand side) and
-    // hardly depends on h (the modified solution's Odeint steps follow its tolerance, not h).
+    // know K and the scheme: measured, a run costs about K + 2 (one series evaluation per order in each right-hand
+    // side) times the scheme's cost factor (a composition's stage problem) and hardly depends on h (the modified
+    // solution's Odeint steps follow its tolerance, not h).
     std::vector<std::size_t> item;  // item[i]: the run computed as the i-th item of the sweep
     const std::size_t X = schemes.size(), H = static_cast<std::size_t>(halvings) + 1;
     for (std::size_t ki = 0; ki < orders.size(); ++ki)
       for (std::size_t hi = 0; hi < H; ++hi)
         for (std::size_t xi = 0; xi < X; ++xi)
           for (std::size_t si = 0; si < systems.size(); ++si) item.push_back(((si * X + xi) * orders.size() + ki) * H + hi);
-    std::vector<double> cost;
-    for (std::size_t i : item) cost.push_back(runs[i].K + 2.0);
+    std::vector<double> cost_of;
+    for (std::size_t i : item)
+      cost_of.push_back((runs[i].K + 2.0) * modified_cost_factor(find_system(runs[i].system), runs[i].scheme));
     const Sweep& sweep = Sweep::world();
     const auto by_item = sweep.map<ModifiedAgreement>(
-        runs.size(), cost,
+        runs.size(), cost_of,
         [&](std::size_t first, std::size_t last) {
           std::vector<ModifiedAgreement> out(last - first);
           parallel_for(last - first, threads, [&](std::size_t k) {
@@ -154,12 +153,14 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < item.size(); ++i) results[item[i]] = by_item[i];
     TsvWriter tsv(dir / "modified_agreement.tsv", "modified_agreement", params,
                   {"system", "scheme", "K", "h", "err_modified", "err_z", "v_shift", "steps"});
-    std::printf("%-18s %-13s %-2s %-9s %12s %12s %12s\n", "system", "scheme", "K", "h", "err_q", "err_z", "v_shift");
+    int sw = 13;  // the scheme column fits the longest name (compositions: "<family>:<base>")
+    for (const auto& x : schemes) sw = std::max(sw, static_cast<int>(x.size()));
+    std::printf("%-18s %-*s %-2s %-9s %12s %12s %12s\n", "system", sw, "scheme", "K", "h", "err_q", "err_z", "v_shift");
     for (std::size_t i = 0; i < runs.size(); ++i) {
       const auto& r = runs[i];
       const auto& a = results[i];
       tsv.row(r.system, r.scheme, r.K, r.h, a.err_q, a.err_z, a.v_shift, a.steps);
-      std::printf("%-18s %-13s %-2d %-9g %12.3e %12.3e %12.3e\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, a.err_q, a.err_z,
+      std::printf("%-18s %-*s %-2d %-9g %12.3e %12.3e %12.3e\n", r.system.c_str(), sw, r.scheme.c_str(), r.K, r.h, a.err_q, a.err_z,
                   a.v_shift);
     }
     tsv.commit();
@@ -168,7 +169,7 @@ int main(int argc, char** argv) {
     const auto t = plots::read_tsv(dir / "modified_agreement.tsv");
     TsvWriter fits(dir / "modified_agreement_fits.tsv", "modified_agreement", params,
                    {"system", "scheme", "K", "fitted_slope", "expected_slope", "points"});
-    std::printf("\nfitted slopes of max_j |q_j - q~_K(t_j)| against h (expected in brackets)\n%-18s %-13s", "system", "scheme");
+    std::printf("\nfitted slopes of max_j |q_j - q~_K(t_j)| against h (expected in brackets)\n%-18s %-*s", "system", sw, "scheme");
     for (int K : orders) std::printf("   K=%d      ", K);
     std::printf("\n");
     plots::Figure fig;
@@ -181,7 +182,7 @@ int main(int argc, char** argv) {
     for (const auto& s : systems) {
       const auto& info = find_system(s);
       for (const auto& x : schemes) {
-        std::printf("%-18s %-13s", s.c_str(), x.c_str());
+        std::printf("%-18s %-*s", s.c_str(), sw, x.c_str());
         plots::Panel p;
         p.setup = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'h'\nset ylabel 'max error in q'\n"
                   "set key bottom right font ',8'\nset title '" + s + ", " + x + "'\n";
@@ -193,7 +194,7 @@ int main(int argc, char** argv) {
           const auto hh = t.numbers("h", keep);
           const auto ee = t.numbers("err_modified", keep);
           const auto f = fit_order(hh, ee, floor);
-          const int expect = expected_slope(info, x, K);
+          const int expect = expected_agreement_slope(info, x, K);
           fits.row(s, x, K, f.slope, expect, f.points);
           std::printf("  %5.2f [%d]  ", f.slope, expect);
           p.series.push_back({hh, ee, plots::slope_label("K = " + std::to_string(K), f.slope),

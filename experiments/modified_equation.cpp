@@ -166,7 +166,12 @@ int main(int argc, char** argv) {
     for (double x : v) require_finite(x, "v");
     require(static_cast<int>(q.size()) == info.dof && static_cast<int>(v.size()) == info.dof,
             "system '" + system + "' has " + std::to_string(info.dof) + " degrees of freedom: give that many --q and --v values");
-    for (const auto& s : schemes) modified_scheme(info, s);
+    for (const auto& s : schemes) {
+      if (formulas)
+        formula_scheme(info, s);
+      else
+        modified_scheme(info, s);
+    }
     require(std::isfinite(budget) && budget > 0, "--budget must be a positive number of seconds");
 
     // Compute everything before writing anything.

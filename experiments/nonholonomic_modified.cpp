@@ -20,6 +20,7 @@
 // the origin, for r = 0.1 down to 0.1^radii; and the power of r of each, fitted over the three smallest r.
 // Writes out/nonholonomic_modified.tsv, out/nonholonomic_modified_fits.tsv, out/nonholonomic_modified_origin.tsv,
 // out/nonholonomic_modified_origin_fits.tsv and out/nonholonomic_modified.{png,pdf}.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -74,9 +75,12 @@ int main(int argc, char** argv) {
     // modified equation with multiplier rows over the same grid: ~3 ms a planned step (measured: 2.5 s of CPU per
     // 840 planned steps, T = 2 -> 4 at the defaults), 5e4 cheap steps
     for (double h : hs)
-      for (const auto& s : systems)
-        plan_steps(static_cast<double>(schemes.size() * orders.size()) * static_cast<double>(step_count(h, sysopt.value(s, "T"))),
+      for (const auto& s : systems) {
+        double cost = 0;  // of a planned step of this system, over the schemes (a composition's cost factor)
+        for (const auto& x : schemes) cost += modified_cost_factor(find_system(s), x);
+        plan_steps(cost * static_cast<double>(orders.size()) * static_cast<double>(step_count(h, sysopt.value(s, "T"))),
                    "the sweep (systems x schemes x orders x T/h)", 5e4);
+      }
     const auto dir = prepare_output_dir(cli.out);
     const double floor = 1e2 * tol;
     std::vector<double> order_values(orders.begin(), orders.end());
@@ -90,7 +94,9 @@ int main(int argc, char** argv) {
     // Part 1
     TsvWriter tsv(dir / "nonholonomic_modified.tsv", "nonholonomic_modified", params,
                   {"system", "scheme", "K", "h", "err_modified", "err_mu", "phi_d", "phi_h0", "phi_h_drift"});
-    std::printf("%-18s %-8s %-2s %-7s %11s %11s %11s %11s %11s\n", "system", "scheme", "K", "h", "err_q", "err_mu", "phi_d",
+    int sw = 8;  // the scheme column fits the longest name (compositions: "<family>:<base>")
+    for (const auto& x : schemes) sw = std::max(sw, static_cast<int>(x.size()));
+    std::printf("%-18s %-*s %-2s %-7s %11s %11s %11s %11s %11s\n", "system", sw, "scheme", "K", "h", "err_q", "err_mu", "phi_d",
                 "phi_h(0)", "phi_h drift");
     struct Run {
       std::string system, scheme;
@@ -118,14 +124,14 @@ int main(int argc, char** argv) {
       const auto& r = runs[i];
       const auto& a = results[i];
       tsv.row(r.system, r.scheme, r.K, r.h, a.err_q, a.err_mu, a.phi_d, a.phi_h0, a.phi_h_drift);
-      std::printf("%-18s %-8s %-2d %-7g %11.3e %11.3e %11.3e %11.3e %11.3e\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h,
+      std::printf("%-18s %-*s %-2d %-7g %11.3e %11.3e %11.3e %11.3e %11.3e\n", r.system.c_str(), sw, r.scheme.c_str(), r.K, r.h,
                   a.err_q, a.err_mu, a.phi_d, a.phi_h0, a.phi_h_drift);
     }
     tsv.commit();
     const auto t = plots::read_tsv(dir / "nonholonomic_modified.tsv");
     TsvWriter fits(dir / "nonholonomic_modified_fits.tsv", "nonholonomic_modified", params,
                    {"system", "scheme", "K", "quantity", "fitted_slope", "points"});
-    std::printf("\nfitted slopes against h\n%-18s %-8s %-2s %9s %9s %9s %9s %9s\n", "system", "scheme", "K", "err_q", "err_mu",
+    std::printf("\nfitted slopes against h\n%-18s %-*s %-2s %9s %9s %9s %9s %9s\n", "system", sw, "scheme", "K", "err_q", "err_mu",
                 "phi_d", "phi_h(0)", "drift");
     plots::Figure fig;
     fig.title = "constrained schemes against their automatic modified equations: max_j |q_j - q^{mod}_K(t_j)|, and the discrete constraint along q^{mod}_K";
@@ -146,7 +152,7 @@ int main(int argc, char** argv) {
           const int K = orders[ki];
           auto keep = [&](std::size_t i) { return t.text(i, "system") == s && t.text(i, "scheme") == x && t.number(i, "K") == K; };
           const auto hh = t.numbers("h", keep);
-          std::printf("%-18s %-8s %-2d", s.c_str(), x.c_str(), K);
+          std::printf("%-18s %-*s %-2d", s.c_str(), sw, x.c_str(), K);
           for (const char* qty : {"err_modified", "err_mu", "phi_d", "phi_h0", "phi_h_drift"}) {
             const auto f = fit_order(hh, t.numbers(qty, keep), std::string(qty) == "err_modified" ? floor : 1e-14);
             fits.row(s, x, K, qty, f.slope, f.points);

@@ -390,7 +390,7 @@ py::dict modified_equation(const System& s, const std::string& scheme, int K, do
 
 py::dict modified_formulas(const System& s, const std::string& scheme, int K, double budget, const py::dict& params) {
   const ParamValues pv = param_values(params);
-  modified::modified_scheme(s.info(), scheme);
+  modified::formula_scheme(s.info(), scheme);
   require(std::isfinite(budget) && budget > 0, "budget must be a positive number of seconds");
   const auto& ms = s.modified();
   modified::ModifiedFormulas f;

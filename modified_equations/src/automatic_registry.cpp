@@ -1,6 +1,9 @@
 #include "geomint/modified/automatic_registry.hpp"
 
+#include <algorithm>
+
 #include "geomint/error.hpp"
+#include "geomint/generic/composition_families.hpp"
 
 namespace geomint::modified {
 
@@ -18,11 +21,30 @@ const std::vector<ModifiedSystem>& all_modified_systems() {
   return all;
 }
 
-const SchemeInfo& modified_scheme(const SystemInfo& sys, const std::string& name) {
+const SchemeInfo& modified_scheme(const SystemInfo& sys, const std::string& name) { return sys.scheme(name); }
+
+std::string composition_formulas_refusal(const std::string& name) {
+  const auto family = generic::find_composition_family(generic::parse_composition_name(name).family);
+  return "'" + name + "' is a composition: its modified equation is computed in numbers, not as formulas (every order "
+         "solves for its " + std::to_string(family.stages() - 1) + " interior stage points, and their expressions would "
+         "grow with the stages)";
+}
+
+double modified_cost_factor(const SystemInfo& sys, const std::string& scheme) {
+  const SchemeInfo& s = sys.scheme(scheme);
+  if (s.base.empty()) return 1;
+  return 4.0 * generic::find_composition_family(generic::parse_composition_name(scheme).family).stages();
+}
+
+int expected_agreement_slope(const SystemInfo& sys, const std::string& scheme, int K) {
+  const int p = sys.scheme(scheme).order;
+  if (p % 2 != 0) return K + 1;
+  return std::max(p, K + 1 + (K % 2 == 0 ? 1 : 0));
+}
+
+const SchemeInfo& formula_scheme(const SystemInfo& sys, const std::string& name) {
   const SchemeInfo& s = sys.scheme(name);
-  if (!s.base.empty())
-    throw InputError("'" + name + "' is a composition: modified equations are derived for the schemes with a residual (" +
-                     join_names(sys.scheme_names(), ", ") + "), not yet for compositions");
+  if (!s.base.empty()) throw InputError(composition_formulas_refusal(name));
   return s;
 }
 

@@ -276,6 +276,21 @@ def test_modified_formulas_of_a_defined_system():
     assert abs(float(f1) - point["F"][1, 0]) < 1e-14 * (1 + abs(point["F"][1, 0]))
 
 
+def test_modified_equation_of_a_composition(tmp_path):
+    # the program's coefficients; an order-4 composition's F_1..F_3 vanish to round-off and its F_4 does not, for a
+    # header's system and for one defined by its formulas; its formulas are refused, saying why
+    program("modified_equation", "--system", "pendulum", "--schemes", "yoshida4:la-trapezoid", "--order", 4,
+            "--q", 0.5, "--v", 0.3, out=tmp_path)
+    table = geomint.read_tsv(tmp_path / "modified_equation.tsv")
+    me = geomint.system("pendulum").modified_equation("yoshida4:la-trapezoid", order=4, q=[0.5], v=[0.3])
+    same_text(me["F"][:, 0], table["value"][table["component"] == "F0"])
+    for F in (me["F"][:, 0], duffing().modified_equation("yoshida4:contact-trapezoid", order=4, q=[0.7], v=[0.2])["F"][:, 0]):
+        assert np.max(np.abs(F[1:4])) < 1e-13 * abs(F[0])
+        assert abs(F[4]) > 1e-3 * abs(F[0])
+    with pytest.raises(geomint.InputError, match="is a composition: its modified equation is computed in numbers"):
+        duffing().modified_formulas("yoshida4:la-trapezoid", order=2)
+
+
 # ---------------------------------------------------------------------------------------------------------
 # bad input: Python exceptions with the C++ message
 

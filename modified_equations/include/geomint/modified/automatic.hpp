@@ -34,10 +34,20 @@
 // symbols and the same operations return F_k, Z_k, mu_k, phi_k as formulas. The small linear systems are then
 // solved exactly (solve_linear below) and each solved coefficient is simplified as it is found (per order and
 // per coefficient: the next orders are built from it, so swell is stopped where it starts).
+//
+// Compositions. Constructed with a coefficient family, the engine of a symmetric scheme gives the modified
+// equation of the composition of that scheme (generic/composition.hpp): its residual is then the composition's
+// three-point residual (composed_residual.hpp: the base residual at the junction of two steps, with every step's
+// stage points solved from the base residual at the stage steps w_i h), which has the leading structure above, so
+// nothing else changes. The family is run-time data: the same instantiation serves the scheme and all its
+// compositions. For a constrained composition mu is the step's total impulse per unit step (all its stages, as
+// Composition reports it) and Phi_h its discrete constraint (the first stage's Phi o Psi, or the last stage's g).
+// Numbers only (the formulas of a composition would carry its stage solve: refused by the registry).
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -45,6 +55,7 @@
 
 #include "geomint/error.hpp"
 #include "geomint/generic/schemes.hpp"
+#include "geomint/modified/composed_residual.hpp"
 #include "geomint/modified/series.hpp"
 
 namespace geomint::modified {
@@ -113,9 +124,19 @@ class ModifiedEquation {
   using Quad = typename Scheme::quadrature;
   using Result = ModifiedCoefficients<n, m, Kmax, C>;
   using coefficient = C;
+  // Whether this scheme has compositions here (a symmetric scheme, numbers).
+  static constexpr bool composable = Scheme::order == 2 && std::is_same_v<C, double>;
+  using Composed = ComposedResidual<Sys, Scheme>;
 
   explicit ModifiedEquation(const Sys& sys) : sys_(sys) {}
+  // The modified equation of the composition of Scheme with `family` (see the header).
+  ModifiedEquation(const Sys& sys, const generic::CompositionFamily& family)
+      : sys_(sys), composed_(std::make_shared<const Composed>(family)) {
+    static_assert(composable, "compositions are of symmetric schemes, in numbers");
+  }
   const Sys& system() const { return sys_; }
+  // The composition's residual, or null for the scheme itself.
+  const Composed* composition() const { return composed_.get(); }
   // A formula can take long (expression swell): the orders stop being built once `deadline` has passed, and
   // the result says so (Result::stopped, Result::K the order reached). Numbers never look at the clock.
   void set_deadline(std::chrono::steady_clock::time_point deadline) { deadline_ = deadline; }
@@ -123,6 +144,13 @@ class ModifiedEquation {
   // F_0..F_K (and Z, mu, phi) at (t, q, v, z). K <= Kmax.
   void evaluate(const C& t, const Vec<C, n>& q, const Vec<C, n>& v, const C& z, int K, Result& out,
                 bool check = false) const {
+    evaluate_to(t, q, v, z, K, out, check, true);
+  }
+
+ private:
+  // multiplier: also the multiplier of a constrained composition (its stages' impulses: one more evaluation)
+  void evaluate_to(const C& t, const Vec<C, n>& q, const Vec<C, n>& v, const C& z, int K, Result& out, bool check,
+                   bool multiplier) const {
     if (K < 0 || K > Kmax) throw std::invalid_argument("modified equation order K must be in [0, " + std::to_string(Kmax) + "]");
     out = Result{};
     out.K = K;
@@ -134,13 +162,14 @@ class ModifiedEquation {
       for (auto& x : row) x.setZero();
 
     // Weight 0, and the probes J, K0, P (the residual is affine in the weight-0 unknowns at degree 0).
-    Rows base = rows(t, out, l, 0);
+    StageCache cache;  // a composition's stage points, from one evaluation to the next
+    Rows base = rows(t, out, l, 0, &cache);
     Mat<C, n, n> J;
     Mat<C, n, m> K0;
     Mat<C, m, n> P;
     for (int r = 0; r < n; ++r) {
       out.c[2][0](r) = C(1);
-      const Rows pr = rows(t, out, l, 0);
+      const Rows pr = rows(t, out, l, 0, &cache, false);
       out.c[2][0](r) = C(0);
       for (int i = 0; i < n; ++i) J(i, r) = Tr::simplify(pr.G[i].coeff(0, 0) - base.G[i].coeff(0, 0));
       for (int c = 0; c < m; ++c)
@@ -148,7 +177,7 @@ class ModifiedEquation {
     }
     for (int r = 0; r < m; ++r) {
       l[0][0](r) = C(1);
-      const Rows pr = rows(t, out, l, 0);
+      const Rows pr = rows(t, out, l, 0, &cache, false);
       l[0][0](r) = C(0);
       for (int i = 0; i < n; ++i) K0(i, r) = Tr::simplify(pr.G[i].coeff(0, 0) - base.G[i].coeff(0, 0));
     }
@@ -156,7 +185,7 @@ class ModifiedEquation {
     bool z_couples = false;
     if constexpr (contact) {
       out.d[1][0] = C(1);
-      const Rows pr = rows(t, out, l, 0);
+      const Rows pr = rows(t, out, l, 0, &cache, false);
       out.d[1][0] = C(0);
       for (int i = 0; i < n; ++i)
         if (!Tr::is_zero(Tr::simplify(pr.G[i].coeff(0, 0) - base.G[i].coeff(0, 0)))) z_couples = true;
@@ -170,14 +199,14 @@ class ModifiedEquation {
           break;
         }
       }
-      Rows R = W == 0 ? base : rows(t, out, l, W);
+      Rows R = W == 0 ? base : rows(t, out, l, W, &cache);
       if constexpr (contact) {
         for (int j = W; j >= 0; --j) {
           C g = known(R.Gz, j, W - j);
           for (int mm = j + 2; mm <= W + 1; ++mm) g += exact<C>(binomial(mm, j)) * out.d[mm][W + 1 - mm];
           out.d[j + 1][W - j] = Tr::simplify(-g / exact<C>(j + 1));
         }
-        if (z_couples) R = rows(t, out, l, W);  // the q rows with this weight's z coefficients in place
+        if (z_couples) R = rows(t, out, l, W, &cache);  // the q rows with this weight's z coefficients in place
       }
       for (int j = W; j >= 0; --j) {
         Vec<C, n> g;
@@ -226,8 +255,13 @@ class ModifiedEquation {
       if constexpr (m > 0) out.mu[k] = l[0][k];
     }
     if constexpr (!std::is_same_v<C, double>) check = false;  // a formula is checked by the tests, not by size
+    const bool composed_mu = m > 0 && multiplier && composed_ != nullptr;
+    if (!check && !composed_mu) return;
+    const Rows R = rows(t, out, l, K, &cache);
+    if (composed_mu)  // the junction's impulse (the engine's unknown) and the interior stages' ones, per unit step
+      for (int k = 0; k <= K; ++k)
+        for (int c = 0; c < m; ++c) out.mu[k](c) += known(R.impulse[c], 0, k + 1);
     if (check) {
-      const Rows R = rows(t, out, l, K);
       double worst = 0;
       auto size = [](const C& x) {
         if constexpr (std::is_same_v<C, double>)
@@ -248,6 +282,7 @@ class ModifiedEquation {
     }
   }
 
+ public:
   // The modified acceleration sum_{k<=K} h^k F_k (and z', the multiplier) at a point, for an ODE solver.
   struct Field {
     Vec<double, n> a;
@@ -255,7 +290,7 @@ class ModifiedEquation {
   };
   Field field(double t, const Vec<double, n>& q, const Vec<double, n>& v, double z, int K, double h) const {
     Result r;
-    evaluate(t, q, v, z, K, r);
+    evaluate_to(t, q, v, z, K, r, false, false);
     Field f{Vec<double, n>::Zero(), 0.0};
     for (int k = K; k >= 0; --k) {
       f.a = f.a * h + r.F[k];
@@ -296,7 +331,16 @@ class ModifiedEquation {
         Qp(i) = shifted(0.5, Kmax + 2, Kmax, pq, x);
       }
       const S H = S::h();
-      const S ell = Quad::action(sys_, S(S(t) + S::eps() - H * 0.5), H, Qm, Qp) * inverse(H);
+      const S T0 = S(t) + S::eps() - H * 0.5;
+      S ell;
+      if constexpr (composable) {
+        if (composed_)
+          ell = composed_->step(sys_, T0, H, Qm, Qp, S(0), S(0)).action * inverse(H);
+        else
+          ell = Quad::action(sys_, T0, H, Qm, Qp) * inverse(H);
+      } else {
+        ell = Quad::action(sys_, T0, H, Qm, Qp) * inverse(H);
+      }
       // (x/2)/sinh(x/2) = sum_r beta_r x^(2r): invert sinh(x/2)/(x/2) = sum_r (1/4)^r / (2r+1)!
       std::array<C, Kmax / 2 + 2> beta{}, sh{};
       double f = 1;
@@ -337,6 +381,7 @@ class ModifiedEquation {
     std::array<S, n> G;
     S Gz;
     std::array<S, m> Phi;
+    std::array<S, m> impulse{};  // a composition: the interior stages' impulses of the step from t
   };
 
   static C known(const S& x, int j, int k) {
@@ -364,8 +409,14 @@ class ModifiedEquation {
     return r;
   }
 
+  // A composition's stage points from the last evaluation (the start of the next one: see ComposedResidual::step).
+  struct StageCache {
+    std::unique_ptr<typename Composed::template Step<S>> after;
+  };
+
   // The residual rows with the coefficients known so far, precise enough for the unknowns of weight W.
-  Rows rows(const C& t, const Result& c, const Lambda& l, int W) const {
+  // With a cache (compositions): start from its stage points, and keep the new ones if `keep`.
+  Rows rows(const C& t, const Result& c, const Lambda& l, int W, StageCache* cache = nullptr, bool keep = true) const {
     const int K = Kmax;
     const int pq = W + 3, pz = W + 2, pl = W + 1;
     Vec<S, n> Qm, Q0, Qp;
@@ -384,6 +435,31 @@ class ModifiedEquation {
     const S invH = inverse(H);
     Rows out;
     Vec<S, n> R;
+    if constexpr (composable) {
+      if (composed_) {
+        S Zm(0), Z0(0), Zp(0);
+        if constexpr (contact) {
+          auto x = [&](int mm, int k) { return c.d[static_cast<std::size_t>(mm)][static_cast<std::size_t>(k)]; };
+          Zm = shifted(-1, K + 2, K, pz, x);
+          Z0 = shifted(0, K + 2, K, pz, x);
+          Zp = shifted(1, K + 2, K, pz, x);
+        }
+        using Step = typename Composed::template Step<S>;
+        // the step from t (from the last evaluation's), and the step before it from that one seen one step back
+        Step after = composed_->step(sys_, T, H, Q0, Qp, Z0, Zp, cache ? cache->after.get() : nullptr, contact);
+        const Step back = composed_->shifted_back(after);
+        Step before = composed_->step(sys_, S(T - H), H, Qm, Q0, Zm, Z0, &back, false);
+        R = composed_->residual(sys_, T, H, before, after, Lam);
+        if constexpr (contact) out.Gz = (Zp - Z0 - after.action) * invH;
+        for (int i = 0; i < n; ++i) out.G[i] = R(i) * invH;
+        for (int r = 0; r < m; ++r) {
+          out.Phi[r] = after.phi(r);
+          out.impulse[r] = after.impulse(r);
+        }
+        if (cache && keep) cache->after = std::make_unique<Step>(std::move(after));
+        return out;
+      }
+    }
     if constexpr (contact) {
       auto x = [&](int mm, int k) { return c.d[static_cast<std::size_t>(mm)][static_cast<std::size_t>(k)]; };
       const S Zm = shifted(-1, K + 2, K, pz, x), Z0 = shifted(0, K + 2, K, pz, x), Zp = shifted(1, K + 2, K, pz, x);
@@ -401,6 +477,7 @@ class ModifiedEquation {
   }
 
   Sys sys_;
+  std::shared_ptr<const Composed> composed_;  // a composition of Scheme (null: the scheme itself)
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
 };
 

@@ -88,9 +88,21 @@ struct ModifiedSystem {
 
 const std::vector<ModifiedSystem>& all_modified_systems();
 const ModifiedSystem& find_modified_system(const std::string& name);
-// The scheme `name` of `sys` for a modified equation: InputError for a name the system does not know, and for a
-// composition, whose modified equation is not derived here (the analysis works from a scheme's three-point
-// residual; a composition is a one-step map on (q, p)).
+// The scheme `name` of `sys` for a modified equation (a scheme or a composition "<family>:<base>"): InputError for a
+// name the system does not know.
 const SchemeInfo& modified_scheme(const SystemInfo& sys, const std::string& name);  // InputError naming the known ones
+// The same for the modified equation as formulas: InputError also for a composition, whose modified equation is
+// computed in numbers only (composition_formulas_refusal says why).
+const SchemeInfo& formula_scheme(const SystemInfo& sys, const std::string& name);
+std::string composition_formulas_refusal(const std::string& name);
+// What one evaluation of the modified equation of `scheme` costs against the scheme's base (1 for a scheme): a
+// composition of s stages solves its stage points at every order, about 4 s times the base (measured on the
+// pendulum and the knife edge: 9x for yoshida4, 19x suzuki4, 28x yoshida6a, 72x kahanli8 at K = 4), for the
+// programs' budgets.
+double modified_cost_factor(const SystemInfo& sys, const std::string& scheme);
+// The slope at which a discrete solution of `scheme` approaches its order-K modified solution: the first h^k
+// beyond K whose F_k may be nonzero — K + 1 for a first-order scheme; for a symmetric one of order p (the odd F_k
+// vanish, and F_1 .. F_{p-1} too) the least even k > K, and at least p.
+int expected_agreement_slope(const SystemInfo& sys, const std::string& scheme, int K);
 
 }  // namespace geomint::modified

@@ -2,7 +2,8 @@
 // make_modified_system<Sys>(): the registry entry of one system's automatic modified equations — the engine
 // (automatic.hpp) for every applicable scheme, the modified flow as an Odeint right-hand side, the shooting
 // start and the agreement run. Heavy: included only by the generated per-system translation units
-// (modified_equations/src/automatic_instance.cpp.in).
+// (modified_equations/src/automatic_instance.cpp.in). A composition "<family>:<base>" uses the engine of its
+// base with the family as run-time data (automatic.hpp): no instantiation per family.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "geomint/error.hpp"
+#include "geomint/generic/composition.hpp"
 #include "geomint/generic/stepper.hpp"
 #include "geomint/generic/system_info.hpp"
 #include "geomint/modified/automatic.hpp"
@@ -21,6 +23,27 @@ namespace geomint::modified::detail {
 
 template <class Sys, class G>
 using Engine = ModifiedEquation<Sys, G, registry_max_order>;
+using Family = generic::CompositionFamily;
+
+// The engine of scheme G, or of its composition with `family` (not null).
+template <class Sys, class G>
+Engine<Sys, G> engine(const Sys& sys, const Family* family) {
+  if constexpr (Engine<Sys, G>::composable) {
+    if (family) return Engine<Sys, G>(sys, *family);
+  } else {
+    if (family) throw std::logic_error("a composition of a scheme that is not symmetric");
+  }
+  return Engine<Sys, G>(sys);
+}
+
+// Calls f(G{}, family) for the scheme `name` of Sys: a generic scheme (family null) or a composition
+// "<family>:<base>" (G its base). InputError for an unknown name.
+template <class Sys, class F>
+decltype(auto) visit_modified_scheme(const std::string& name, F&& f) {
+  if (generic::is_composition_name(name))
+    return generic::visit_composition<Sys>(name, [&](auto g, const Family& family) { return f(g, &family); });
+  return generic::visit_generic_scheme<Sys>(name, [&](auto g) { return f(g, static_cast<const Family*>(nullptr)); });
+}
 
 inline constexpr double nan = missing_value;
 
@@ -34,10 +57,10 @@ Vec<double, n> to_vec(const std::vector<double>& x, const char* what) {
 }
 
 template <class Sys, class G>
-ModifiedPoint point(const Sys& sys, int K, double t, const Vec<double, Sys::dof>& q, const Vec<double, Sys::dof>& v,
-                    double z, bool check) {
+ModifiedPoint point(const Sys& sys, const Family* family, int K, double t, const Vec<double, Sys::dof>& q,
+                    const Vec<double, Sys::dof>& v, double z, bool check) {
   constexpr int n = Sys::dof, m = Sys::constraints;
-  const Engine<Sys, G> me(sys);
+  const Engine<Sys, G> me = engine<Sys, G>(sys, family);
   typename Engine<Sys, G>::Result r;
   me.evaluate(t, q, v, z, K, r, check);
   ModifiedPoint out;
@@ -158,7 +181,8 @@ Vec<double, Sys::dof> shoot_velocity(const Engine<Sys, G>& me, int K, double h, 
 }
 
 // The discrete solution by the generic Newton step in long double (its round-off stays far below the
-// agreement errors being fitted), from the system's initial data.
+// agreement errors being fitted), from the system's initial data; for a composition, its stages' steps
+// (Composition), the impulse of a step the sum of its stages'.
 template <class Sys, class G>
 struct Discrete {
   std::vector<Vec<double, Sys::dof>> q;
@@ -166,11 +190,10 @@ struct Discrete {
   std::vector<Vec<double, Sys::constraints>> lambda;  // impulse of the step j -> j+1
   Vec<double, Sys::dof> v0;
 };
-template <class Sys, class G>
-Discrete<Sys, G> discrete_run(const Sys& sys, double h, long N) {
+template <class Sys, class G, class Stepper>
+Discrete<Sys, G> discrete_steps(const Sys& sys, Stepper& st, long N) {
   constexpr int n = Sys::dof;
   using LD = long double;
-  generic::Stepper<Sys, G, LD> st(sys, LD(h));
   const Vec<LD, n> q0 = sys.template initial_position<LD>();
   st.start(q0, sys.template initial_velocity<LD>());
   Discrete<Sys, G> d;
@@ -188,16 +211,28 @@ Discrete<Sys, G> discrete_run(const Sys& sys, double h, long N) {
   }
   return d;
 }
+template <class Sys, class G>
+Discrete<Sys, G> discrete_run(const Sys& sys, const Family* family, double h, long N) {
+  using LD = long double;
+  if constexpr (Engine<Sys, G>::composable) {
+    if (family) {
+      generic::Composition<Sys, G, LD> c(sys, *family, LD(h));
+      return discrete_steps<Sys, G>(sys, c, N);
+    }
+  }
+  generic::Stepper<Sys, G, LD> st(sys, LD(h));
+  return discrete_steps<Sys, G>(sys, st, N);
+}
 
 template <class Sys, class G>
-ModifiedAgreement agreement_run(const Sys& sys, int K, double h, double T, double tol) {
+ModifiedAgreement agreement_run(const Sys& sys, const Family* family, int K, double h, double T, double tol) {
   constexpr int n = Sys::dof, m = Sys::constraints;
   using Q = typename G::quadrature;
   const long N = step_count(h, T);
   ModifiedAgreement a;
   a.steps = N;
-  const Engine<Sys, G> me(sys);
-  const auto d = discrete_run<Sys, G>(sys, h, N);
+  const Engine<Sys, G> me = engine<Sys, G>(sys, family);
+  const auto d = discrete_run<Sys, G>(sys, family, h, N);
   const Vec<double, n> v0 = shoot_velocity(me, K, h, d.q[0], d.v0, d.z[0], d.q[1], tol, &a.shoot_miss);
   a.v_shift = (v0 - d.v0).template lpNorm<Eigen::Infinity>();
   std::vector<double> times(static_cast<std::size_t>(N + 1));
@@ -220,9 +255,19 @@ ModifiedAgreement agreement_run(const Sys& sys, int K, double h, double T, doubl
       const double t = times[j];
       Vec<double, n> v;
       for (int i = 0; i < n; ++i) v(i) = xs[j][static_cast<std::size_t>(n + i)];
-      if (j + 1 < xs.size())
-        a.phi_d = std::max(a.phi_d, generic::discrete_constraint<Sys, Q, double>(sys, t, h, qm[j], qm[j + 1])
-                                        .template lpNorm<Eigen::Infinity>());
+      if (j + 1 < xs.size()) {
+        // the scheme's discrete constraint (a composition's: its stages', see composed_residual.hpp)
+        Vec<double, m> phi_d;
+        if constexpr (Engine<Sys, G>::composable) {
+          if (me.composition())
+            phi_d = me.composition()->step(sys, t, h, qm[j], qm[j + 1], xs[j][2 * n], xs[j + 1][2 * n]).phi;
+          else
+            phi_d = generic::discrete_constraint<Sys, Q, double>(sys, t, h, qm[j], qm[j + 1]);
+        } else {
+          phi_d = generic::discrete_constraint<Sys, Q, double>(sys, t, h, qm[j], qm[j + 1]);
+        }
+        a.phi_d = std::max(a.phi_d, phi_d.template lpNorm<Eigen::Infinity>());
+      }
       me.evaluate(t, qm[j], v, xs[j][2 * n], K, r);
       Vec<double, m> phi = Vec<double, m>::Zero(), mu = Vec<double, m>::Zero();
       for (int k = K + o; k >= 0; --k) phi = phi * h + r.phi[static_cast<std::size_t>(k)];
@@ -262,21 +307,23 @@ ModifiedSystem make_modified_system() {
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
     const auto Q = detail::to_vec<Sys::dof>(q, "q");
     const auto V = detail::to_vec<Sys::dof>(v, "v");
-    return generic::visit_generic_scheme<Sys>(scheme, [&](auto g) { return detail::point<Sys, decltype(g)>(sys, K, t, Q, V, z, check); });
+    return detail::visit_modified_scheme<Sys>(
+        scheme, [&](auto g, const detail::Family* f) { return detail::point<Sys, decltype(g)>(sys, f, K, t, Q, V, z, check); });
   };
   s.agreement = [](const ParamValues& pv, const std::string& scheme, int K, double h, double T, double tol) {
     const Sys sys = generic::make_system<Sys>(pv);
     sys.validate();
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
-    return generic::visit_generic_scheme<Sys>(scheme, [&](auto g) { return detail::agreement_run<Sys, decltype(g)>(sys, K, h, T, tol); });
+    return detail::visit_modified_scheme<Sys>(
+        scheme, [&](auto g, const detail::Family* f) { return detail::agreement_run<Sys, decltype(g)>(sys, f, K, h, T, tol); });
   };
   s.shoot = [](const ParamValues& pv, const std::string& scheme, int K, double h, double tol) {
     const Sys sys = generic::make_system<Sys>(pv);
     sys.validate();
-    return generic::visit_generic_scheme<Sys>(scheme, [&](auto g) {
+    return detail::visit_modified_scheme<Sys>(scheme, [&](auto g, const detail::Family* f) {
       using G = decltype(g);
-      const detail::Engine<Sys, G> me(sys);
-      const auto d = detail::discrete_run<Sys, G>(sys, h, 1);
+      const detail::Engine<Sys, G> me = detail::engine<Sys, G>(sys, f);
+      const auto d = detail::discrete_run<Sys, G>(sys, f, h, 1);
       const auto v = detail::shoot_velocity(me, K, h, d.q[0], d.v0, d.z[0], d.q[1], tol, nullptr);
       return std::vector<double>(v.data(), v.data() + Sys::dof);
     });

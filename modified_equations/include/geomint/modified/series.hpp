@@ -257,6 +257,32 @@ class BiSeries {
   }
   friend BiSeries operator/(const BiSeries& x, const BiSeries& y) { return x * inverse(y); }
 
+  // x(eps + s h, h): the same function seen from a point s steps away (exact: (eps + s h)^j re-expanded). A
+  // coefficient of total degree d needs those of x of degree d up to eps^d, so the result is known below total
+  // degree E + 1 at most.
+  friend BiSeries shifted_by_steps(const BiSeries& x, double s) {
+    BiSeries r;
+    r.p = std::min(x.p, E + 1);
+    for (int j = 0; j <= x.j1; ++j)
+      for (int k = x.k0; k <= x.k1 && j + k < r.p; ++k) {
+        const C& a = x.at(j, k);
+        if (Tr::is_zero(a)) continue;
+        double b = 1;  // binom(j, rr) s^(j - rr), from rr = j down
+        for (int rr = j; rr >= 0; --rr) {
+          const int kk = k + j - rr;
+          if (kk > U) {
+            r.p = std::min(r.p, j + k);
+            break;
+          }
+          r.at(rr, kk) += Tr::normalize(a * Tr::from_number(b));
+          b = b * s * rr / (j - rr + 1);
+        }
+      }
+    r.fit();
+    r.clip();
+    return r;
+  }
+
   // f(x) = sum_r f_r (x - x00)^r with f_r = f^(r)(x00)/r!, given by `coef(r)`.
   template <class Coef>
   friend BiSeries compose(const BiSeries& x, Coef&& coef) {

@@ -142,6 +142,7 @@ ModifiedFormulas symbolic_formulas(const ParamValues& pv, const std::string& sch
     throw InputError(std::string("system '") + Sys::name + "' has no symbolic parameter type yet (formulas need its header templated on it)");
   } else {
     using SymSys = typename SymbolicOf<Sys>::type;
+    if (generic::is_composition_name(scheme)) throw InputError(composition_formulas_refusal(scheme));
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
     const Sys numeric = generic::make_system<Sys>(pv);
     numeric.validate();
