@@ -3,6 +3,7 @@
 // evaluation costs when the modified equation is integrated with Odeint. Timings only (not part of
 // `make figures`: they differ from run to run).
 //   modified_cost [--systems pendulum knife-edge foucault-rotation] [--schemes la contact la-trapezoid]
+//                 (compositions too: --schemes la-trapezoid yoshida4:la-trapezoid)
 //                 [--orders 0 1 2 3 4 5 6] [--seconds 0.2] [--reps 5] [--out out]
 // Each cell: the median over `reps` repeats of (time of a loop of evaluations lasting >= seconds) / count,
 // after a warm-up. Points: each system's initial position and (consistent) velocity.
@@ -15,6 +16,7 @@
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
+#include "geomint/generic/composition_families.hpp"
 #include "geomint/io.hpp"
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/registry.hpp"
@@ -43,13 +45,24 @@ int main(int argc, char** argv) {
     for (int K : orders) require(K >= 0 && K <= registry_max_order, "orders must be in [0, " + std::to_string(registry_max_order) + "]");
     for (const auto& s : systems) sysopt.values(s);
     // A scheme is skipped on a system it does not apply to, but a name no listed system knows is a typo.
+    // Compositions "<family>:<base>" (every system has them) cost their stage problem at every order.
+    auto applies = [](const std::string& system, const std::string& x) {
+      const auto& names = find_modified_system(system).schemes;
+      if (std::find(names.begin(), names.end(), x) != names.end()) return true;
+      if (!generic::is_composition_name(x)) return false;
+      modified_scheme(find_system(system), x);  // InputError naming the families and bases
+      return true;
+    };
     std::vector<std::string> known;
     for (const auto& s : systems)
       for (const auto& name : find_modified_system(s).schemes)
         if (std::find(known.begin(), known.end(), name) == known.end()) known.push_back(name);
-    for (const auto& x : schemes)
-      require(std::find(known.begin(), known.end(), x) != known.end(),
-              "unknown scheme '" + x + "' for the systems named (their schemes: " + join_names(known, ", ") + ")");
+    for (const auto& x : schemes) {
+      bool any = false;
+      for (const auto& s : systems) any = applies(s, x) || any;
+      require(any, "unknown scheme '" + x + "' for the systems named (their schemes: " + join_names(known, ", ") +
+                       ", and compositions <family>:<base>)");
+    }
     // every cell is `reps` timed loops of at least `seconds` (and one untimed loop first)
     plan_seconds(static_cast<double>(systems.size() * schemes.size() * orders.size()) * (reps + 1) * seconds,
                  "the timed loops (systems x schemes x orders x (reps + 1) x --seconds)");
@@ -69,7 +82,7 @@ int main(int argc, char** argv) {
       const auto run = info.run(pv, info.schemes.front().name, 0.1, Path::generic, 1);
       std::vector<double> q(run.q.begin(), run.q.begin() + info.dof), v(run.v.begin(), run.v.begin() + info.dof);
       for (const auto& x : schemes) {
-        if (std::find(ms.schemes.begin(), ms.schemes.end(), x) == ms.schemes.end()) continue;
+        if (!applies(s, x)) continue;
         for (int K : orders) {
           double sink = 0;
           auto loop = [&] {
