@@ -4,8 +4,9 @@
 #   GEOMINT_SYSTEM(header, Type) line (the header must exist under core/include/geomint/systems/).
 # geomint_formula_shapes(VAR): the shapes the build compiles, one "n:m:h:modified" per
 #   GEOMINT_FORMULA_SHAPE(n, m, holonomic 0/1, modified equations 0/1) line of core/src/formula/shapes.def, and the
-#   same lines in generated/formula/shapes_compiled.def, which the registries include. The sanitizer build compiles
-#   only the shapes with modified equations: the ones its tests use; the others are the same templates at other sizes.
+#   same lines in generated/formula/shapes_compiled.def, which the registries include. A sanitizer build that compiles
+#   its own template units compiles only the shapes with modified equations: the ones its tests use; the others are
+#   the same templates at other sizes. One that takes them from a release build (below) has them all.
 # Both make the configuration re-run when their file changes.
 
 function(geomint_registry_systems var)
@@ -35,7 +36,7 @@ function(geomint_formula_shapes var)
     if(NOT line MATCHES "^GEOMINT_FORMULA_SHAPE\\(([1-4]), *([0-2]), *([01]), *([01])\\)")
       message(FATAL_ERROR "shapes.def: cannot read '${line}' (expected GEOMINT_FORMULA_SHAPE(n, m, 0 or 1, 0 or 1))")
     endif()
-    if(GEOMINT_SANITIZE AND CMAKE_MATCH_4 STREQUAL "0")
+    if(GEOMINT_SANITIZE AND NOT GEOMINT_TEMPLATE_UNITS_FROM AND CMAKE_MATCH_4 STREQUAL "0")
       continue()
     endif()
     list(APPEND items "${CMAKE_MATCH_1}:${CMAKE_MATCH_2}:${CMAKE_MATCH_3}:${CMAKE_MATCH_4}")
@@ -58,6 +59,55 @@ function(geomint_generated_units)
   if(GEOMINT_SANITIZE)
     set_property(SOURCE ${ARGN} APPEND PROPERTY COMPILE_OPTIONS -fno-sanitize=undefined)
   endif()
+endfunction()
+
+# The template units from a release build. They are half of the sanitizer build's compile time (34 of its units:
+# the build takes 12 minutes on 2 cores without them, about 23 with them) and, compiled with AddressSanitizer alone,
+# checked least of all: the sanitizer suite's own instrumented copies of these templates are the tests'
+# instantiations, which carry both sanitizers, and the linker keeps those (an object of the program comes before
+# any archive member). So with
+# GEOMINT_TEMPLATE_UNITS_FROM=<release build of the same tree> (`make sanitize` passes its own release build, built
+# first) the sanitizer build links that build's objects of these units, uninstrumented as a system library is,
+# and compiles everything written by hand, the tests and the programs with both sanitizers. -O3 and -Og give the
+# same bits here (no fast-math, no contraction), so the objects are interchangeable; Eigen's allocator is made the
+# same on both sides (CMakeLists.txt: a bad free otherwise).
+#
+# geomint_release_objects(library): in a release build, the list of the library's objects, for a sanitizer build to
+#   read (generated/objects_<library>.txt, written at generation).
+# geomint_template_units(library VAR sources...): VAR = the sources to compile, or, from a release build, its
+#   objects of these sources.
+function(geomint_release_objects library)
+  if(NOT GEOMINT_SANITIZE)
+    file(GENERATE OUTPUT ${CMAKE_BINARY_DIR}/generated/objects_${library}.txt CONTENT "$<TARGET_OBJECTS:${library}>")
+  endif()
+endfunction()
+
+function(geomint_template_units library var)
+  if(NOT (GEOMINT_SANITIZE AND GEOMINT_TEMPLATE_UNITS_FROM))
+    set(${var} ${ARGN} PARENT_SCOPE)
+    return()
+  endif()
+  set(manifest ${GEOMINT_TEMPLATE_UNITS_FROM}/generated/objects_${library}.txt)
+  if(NOT EXISTS ${manifest})
+    message(FATAL_ERROR "GEOMINT_TEMPLATE_UNITS_FROM=${GEOMINT_TEMPLATE_UNITS_FROM}: no ${manifest}; "
+                        "configure and build a release build of this tree there first (make build)")
+  endif()
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${manifest})
+  file(READ ${manifest} objects)
+  set(found "")
+  foreach(src ${ARGN})
+    file(RELATIVE_PATH rel ${CMAKE_BINARY_DIR} ${src})
+    string(REPLACE "." "\\." pattern "${rel}")
+    set(hit ${objects})
+    list(FILTER hit INCLUDE REGEX "/${pattern}\\.o$")
+    list(LENGTH hit count)
+    if(NOT count EQUAL 1)
+      message(FATAL_ERROR "${manifest}: no object of ${rel} (the release build there is of another tree?)")
+    endif()
+    list(APPEND found ${hit})
+  endforeach()
+  set_source_files_properties(${found} PROPERTIES EXTERNAL_OBJECT TRUE GENERATED TRUE)
+  set(${var} ${found} PARENT_SCOPE)
 endfunction()
 
 # Units whose speed no figure or benchmark measures, compiled at -O1 in the release build (CI's time is a budget):
