@@ -40,6 +40,7 @@ stability --system coupled-oscillators --n 60
 long_horizon_oscillator
 long_horizon_foucault
 long_horizon_forced
+long_horizon_kepler
 kepler_anchor
 endef
 export FIGURE_COMMANDS

@@ -292,12 +292,9 @@ int main(int argc, char** argv) {
                                                       {"phase_err", "steady-state phase error (rad)", 1e-3}};
     long_horizon::summarise(pts, measures, "alpha", "periods", dir / "long_horizon_forced_summary.tsv",
                             "long_horizon_forced", params);
-    const auto d = plots::read_tsv(dir / "long_horizon_forced.tsv");
-    const auto tt = plots::read_tsv(dir / "long_horizon_forced_timings.tsv");
-    const long_horizon::Table table{d, tt, "alpha", "periods"};
-    long_horizon::draw(table, measures, format_number(periods.back()),
-                       "Forced oscillator over " + format_number(periods.back()) + " forcing periods: steady-state error against CPU time (median)",
-                       dir / "long_horizon_forced");
+    long_horizon::draw_saved(dir, "long_horizon_forced", "alpha", "periods", measures, format_number(periods.back()),
+                             "Forced oscillator over " + format_number(periods.back()) +
+                                 " forcing periods: steady-state error against CPU time (median)");
     return 0;
   });
 }

@@ -192,13 +192,9 @@ int main(int argc, char** argv) {
     long_horizon::summarise(pts, measures, "alpha", "periods", dir / "long_horizon_oscillator_summary.tsv",
                             "long_horizon_oscillator", params);
     // The figure is drawn from the files just written.
-    const auto d = plots::read_tsv(dir / "long_horizon_oscillator.tsv");
-    const auto tt = plots::read_tsv(dir / "long_horizon_oscillator_timings.tsv");
-    const long_horizon::Table table{d, tt, "alpha", "periods"};
-    long_horizon::draw(table, measures, format_number(periods.back()),
-                       "Damped oscillator over " + format_number(periods.back()) +
-                           " periods: structural error against CPU time (median)",
-                       dir / "long_horizon_oscillator");
+    long_horizon::draw_saved(dir, "long_horizon_oscillator", "alpha", "periods", measures, format_number(periods.back()),
+                             "Damped oscillator over " + format_number(periods.back()) +
+                                 " periods: structural error against CPU time (median)");
     return 0;
   });
 }

@@ -35,18 +35,20 @@ struct Table {
   }
 };
 
-inline std::string ms_cell(double seconds) {
+inline std::string ms_cell(double seconds, double scale = 1e3) {
   if (!std::isfinite(seconds)) return "-";
   char b[32];
-  std::snprintf(b, sizeof b, "%.3g", seconds * 1e3);
+  std::snprintf(b, sizeof b, "%.3g", seconds * scale);
   return b;
 }
 
 // The study's summary (summarise_work): written to `summary_path`, and printed as the table of docs/speed-accuracy.md (markdown),
-// the crossovers and the slopes.
+// the crossovers and the slopes. The cost is the points' CPU time, printed in ms; a study that charges another cost
+// (evaluations of the equations) puts it in the points' times and names it, with the factor it is printed at.
 inline void summarise(const std::vector<WorkPoint>& points, const std::vector<Measure>& measures,
                       const std::string& group, const std::string& horizon, const std::filesystem::path& summary_path,
-                      const std::string& program, const Params& params) {
+                      const std::string& program, const Params& params,
+                      const std::string& cost = "CPU time (ms, median of repeats)", double scale = 1e3) {
   const auto rows = summarise_work(points, measures);
   const auto methods = work_methods(points);
   TsvWriter sum(summary_path, program, params, {"kind", "measure", "target", group, horizon, "method", "value"});
@@ -54,7 +56,7 @@ inline void summarise(const std::vector<WorkPoint>& points, const std::vector<Me
     sum.row(r.kind, r.measure, r.target, format_number(r.group), r.kind == "crossover" ? "-" : format_number(r.horizon),
             r.method, r.value);
   sum.commit();
-  std::printf("\nCPU time (ms, median of repeats) to reach the target structural error; '-' = no run reached it\n");
+  std::printf("\n%s to reach the target structural error; '-' = no run reached it\n", cost.c_str());
   std::printf("| measure <= target | %s | %s |", group.c_str(), horizon.c_str());
   for (const auto& m : methods) std::printf(" %s |", m.c_str());
   std::printf(" best geometric / best adaptive |\n|---|---|---|");
@@ -66,7 +68,7 @@ inline void summarise(const std::vector<WorkPoint>& points, const std::vector<Me
       if (r.method == methods.front())
         std::printf("| %s <= %s | %s | %s |", r.measure.c_str(), format_number(r.target).c_str(),
                     format_number(r.group).c_str(), format_number(r.horizon).c_str());
-      std::printf(" %s |", ms_cell(r.value).c_str());
+      std::printf(" %s |", ms_cell(r.value, scale).c_str());
     } else if (r.kind == "geometric_over_adaptive") {
       if (std::isfinite(r.value)) {
         std::printf(" %.3g |\n", r.value);
@@ -90,7 +92,7 @@ inline void summarise(const std::vector<WorkPoint>& points, const std::vector<Me
     if (r.kind == "crossover")
       std::printf("  %-22s %s = %-6s %s\n", r.measure.c_str(), group.c_str(), format_number(r.group).c_str(),
                   std::isnan(r.value) ? "none within the horizons run" : ("from " + format_number(r.value)).c_str());
-  std::printf("\nFitted slope d log(error) / d log(CPU time):\n");
+  std::printf("\nFitted slope d log(error) / d log(cost):\n");
   const std::size_t M = measures.size();
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
@@ -137,6 +139,16 @@ inline void draw(const Table& T, const std::vector<Measure>& measures, const std
       fig.panels.push_back(std::move(p));
     }
   fig.draw(stem);
+}
+
+// The figure of a study from the two files it has just saved, <program>.tsv and <program>_timings.tsv in `dir`,
+// at its longest horizon: out/<program>.{png,pdf}.
+inline void draw_saved(const std::filesystem::path& dir, const std::string& program, const std::string& group,
+                       const std::string& horizon, const std::vector<Measure>& measures, const std::string& horizon_value,
+                       const std::string& title) {
+  const auto d = plots::read_tsv(dir / (program + ".tsv"));
+  const auto tt = plots::read_tsv(dir / (program + "_timings.tsv"));
+  draw(Table{d, tt, group, horizon}, measures, horizon_value, title, dir / program);
 }
 
 }  // namespace geomint::long_horizon
