@@ -6,11 +6,13 @@
 //   phase   |theta(T) - theta(0) - omega T| (rad): the phase error accumulated over the horizon
 //   balance max over windows of |E_k - E_{k+1} - W_k| / E_k: energy lost against the work of the damping force
 //           (windows of a fixed length, --window-periods, so that the balance means the same at every horizon)
-// Methods: the geometric schemes (la, contact: first order; la-midpoint, contact-sym, leapfrog: second order)
-// and Odeint's rk4 over steps per period; Odeint dopri5 and Bulirsch–Stoer and GSL rk8pd over tolerance.
+// Methods: the geometric schemes (la, contact: first order; la-midpoint, contact-sym, leapfrog: second order),
+// compositions of order 4, 6 and 8 of leapfrog (--compositions: any family of a symmetric scheme, stepped by the
+// base's closed form at each stage step) and Odeint's rk4 over steps per period; Odeint dopri5 and Bulirsch–Stoer
+// and GSL rk8pd over tolerance.
 // A run that fails is a missing value (nan) with a message naming method, parameters and step.
 //   long_horizon_oscillator [--alpha 0.01 0.1] [--periods 100 1000] [--m 16 32 64 128 256] [--tol 1e-5 1e-7 1e-9 1e-11]
-//                [--window-periods 5] [--reps 3] [--out out]
+//                [--window-periods 5] [--reps 3] [--compositions yoshida4:la-trapezoid ...] [--out out]
 // The study in docs/speed-accuracy.md (about 10 minutes on one core):
 //   long_horizon_oscillator --periods 1000 10000 100000 --m 16 32 64 128 256 512 --tol 1e-4 1e-6 1e-8 1e-10 1e-12
 // Writes out/long_horizon_oscillator.tsv (errors: the same bits for the same command),
@@ -24,6 +26,8 @@
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
+#include "geomint/generic/composition_families.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/io.hpp"
 #include "geomint/long_horizon.hpp"
 #include "geomint/systems/oscillator.hpp"
@@ -67,6 +71,23 @@ Runner geometric(const std::string& name, double alpha, double q0, double p0, do
   return run;
 }
 
+// A composition "<family>:<base>" of a symmetric scheme of the oscillator: the base's closed form at each stage step.
+Runner composed(const std::string& name, double alpha, double q0, double p0, double h, long N, long windows) {
+  const auto cn = generic::parse_composition_name(name);
+  std::vector<double> stage_h;  // w_i h, rounded from long double as generic::Composition does
+  for (const long double w : generic::find_composition_family(cn.family).weights)
+    stage_h.push_back(static_cast<double>(w * static_cast<long double>(h)));
+  Runner run;
+  generic::visit_closed_form<systems::Oscillator>(cn.base, [&](auto c) {
+    using S = decltype(c);
+    run = [=](bool m) {
+      return m ? run_composed_structure<S, true>(stage_h, alpha, q0, p0, h, N, windows)
+               : run_composed_structure<S, false>(stage_h, alpha, q0, p0, h, N, windows);
+    };
+  });
+  return run;
+}
+
 double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
 
 // One point of the study: the four structural errors of kMeasures against the exact values (decay rate alpha,
@@ -91,6 +112,7 @@ int main(int argc, char** argv) {
     double q0 = -0.25, p0 = 0.75;
     double window_periods = 5;
     int reps = 3;
+    std::vector<std::string> compositions{"yoshida4:la-trapezoid", "yoshida6a:la-trapezoid", "kahanli8:la-trapezoid"};
     Cli cli("long_horizon_oscillator", "long-horizon structural error against CPU time: damped oscillator");
     cli.options.add_options()("alpha", po::value(&alphas)->multitoken(), "damping values (default 0.01 0.1)")(
         "periods", po::value(&periods)->multitoken(), "horizons T = 2 pi periods (default 100 1000)")(
@@ -99,9 +121,18 @@ int main(int argc, char** argv) {
         "q0", po::value(&q0)->default_value(q0), "initial position")("p0", po::value(&p0)->default_value(p0), "initial momentum")(
         "window-periods", po::value(&window_periods)->default_value(window_periods),
         "length of the windows of the balance and of the renormalisation, in periods (must divide every horizon)")(
-        "reps", po::value(&reps)->default_value(reps), "timed repetitions");
+        "reps", po::value(&reps)->default_value(reps), "timed repetitions")(
+        "compositions", po::value(&compositions)->multitoken(),
+        "compositions <family>:<base> of the oscillator's symmetric schemes (default yoshida4, yoshida6a and kahanli8 "
+        "of la-trapezoid, the leapfrog)");
     if (!cli.parse(argc, argv)) return 0;
     require(!alphas.empty() && !periods.empty() && !ms.empty() && !tols.empty(), "give at least one value per list");
+    double stages = 0;  // base steps a step of every composition takes, for the plan below
+    for (const auto& c : compositions) {
+      require(generic::is_composition_name(c), "--compositions takes <family>:<base>, got '" + c + "'");
+      find_system("oscillator").scheme(c);  // InputError naming the family or the base when either is not one
+      stages += generic::find_composition_family(generic::parse_composition_name(c).family).stages();
+    }
     for (double a : alphas) require(std::isfinite(a) && a > 0 && a < 2, "alpha must be in (0, 2) (under-damped), got " + show(a));
     for (double P : periods)
       require(std::isfinite(P) && P >= 1 && P <= 1e7 && P == std::round(P), "periods must be whole numbers in [1, 1e7], got " + show(P));
@@ -114,7 +145,7 @@ int main(int argc, char** argv) {
     for (double P : periods)
       for (double m : ms) {
         check_steps(P * m, "periods x m = " + show(P) + " x " + show(m));
-        plan_steps(P * m * static_cast<double>(alphas.size()) * 4, "the runs (schemes x alpha x periods x m)");
+        plan_steps(P * m * static_cast<double>(alphas.size()) * (4 + stages), "the runs (schemes x alpha x periods x m)");
       }
     require(std::isfinite(window_periods) && window_periods >= 1 && window_periods == std::round(window_periods),
             "window-periods must be a whole number >= 1, got " + show(window_periods));
@@ -144,6 +175,8 @@ int main(int argc, char** argv) {
           const long W = std::lround(P / window_periods);
           for (const auto& name : geo)
             pts.push_back(measure(name, "geometric", "m", a, P, m, geometric(name, a, q0, p0, h, N, W), reps));
+          for (const auto& name : compositions)
+            pts.push_back(measure(name, "geometric", "m", a, P, m, composed(name, a, q0, p0, h, N, W), reps));
           pts.push_back(measure("odeint-rk4", "rk", "m", a, P, m, [=](bool mm) {
             return mm ? run_rk4_structure<true>(a, q0, p0, h, N, W) : run_rk4_structure<false>(a, q0, p0, h, N, W);
           }, reps));
@@ -171,6 +204,7 @@ int main(int argc, char** argv) {
                         {"periods", format_list(periods)}, {"q0", format_number(q0)}, {"p0", format_number(p0)},
                         {"m", format_list(ms) + " (steps per period, h = 2 pi/m)"}, {"tol", format_list(tols) + " (abs = rel)"},
                         {"window_periods", format_number(window_periods)}, {"reps", std::to_string(reps)},
+                        {"compositions", join_names(compositions) + " (the base's closed form at each stage step w_i h)"},
                         {"measures", "decay_err = |alpha_fit - alpha|/alpha (log Q, Q = q^2 + alpha q p + p^2); freq_err = "
                                      "|omega_fit - omega|/omega; phase_err = |theta(T) - theta(0) - omega T| rad; balance_err = "
                                      "max_k |E_k - E_k+1 - W_k|/E_k (W: trapezoid on the steps for geometric schemes, "

@@ -10,8 +10,10 @@
 #include <gsl/gsl_integration.h>
 
 #include "geomint/foucault_diagnostics.hpp"
+#include "geomint/generic/composition_families.hpp"
 #include "geomint/generic/dual.hpp"
 #include "geomint/long_horizon.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/systems/oscillator.hpp"
 #include "geomint/study.hpp"
 
@@ -168,6 +170,58 @@ TEST_CASE("decay-rate and frequency errors fall with the schemes' orders", "[lon
   CHECK(lm_f == Approx(2).margin(0.1));
   CHECK(cs_f == Approx(2).margin(0.1));
   CHECK(lf_f == Approx(2).margin(0.1));
+}
+
+// The stage steps w_i h of a composition family, rounded from long double as generic::Composition does.
+std::vector<double> stage_steps(const char* family, double h) {
+  std::vector<double> hs;
+  for (const long double w : generic::find_composition_family(family).weights)
+    hs.push_back(static_cast<double>(w * static_cast<long double>(h)));
+  return hs;
+}
+
+TEST_CASE("a composition of the leapfrog's closed form is the registry's composition, and its structural errors fall "
+          "at its order", "[long_horizon][oscillator][composition]") {
+  // The same map: the registry steps the composition through the generic Newton step of la-trapezoid, stage by
+  // stage, where the closed form solves each stage exactly; over 1000 steps (7000 stages) they differ by round-off.
+  // Newton accepts a stage within kappa = 16 eps of its solution (newton.hpp), |q|, |p| <= 1 here: the bound is
+  // 7000 x 16 eps = 2.5e-11 (measured 4e-13: the errors do not all add up).
+  const double alpha = 0.1, h = 0.1;
+  const Run run = find_system("oscillator").run({{"alpha", alpha}, {"T", 100}}, "yoshida6a:la-trapezoid", h, Path::fast, 1);
+  REQUIRE(run.steps == 1000);
+  OscState<double> s{run.q[0], run.p[0], 0.0};
+  const auto hs = stage_steps("yoshida6a", h);
+  double worst = 0;
+  for (long j = 1; j <= run.steps; ++j) {
+    for (const double hi : hs) Osc::Leapfrog::step(s, hi, alpha);
+    worst = std::max({worst, std::abs(s.q - run.q[static_cast<std::size_t>(j)]), std::abs(s.p - run.p[static_cast<std::size_t>(j)])});
+  }
+  INFO("max |closed-form composition - registry composition| over 1000 steps: " << worst);
+  CHECK(worst < 7000 * 16 * eps);
+
+  // Decay-rate and frequency errors over 500 periods against m: the composition's order (4 and 6), where the
+  // second-order base has 2 (the test above).
+  const double periods = 500;
+  auto slopes = [&](const char* family, const std::vector<double>& ms) {
+    std::vector<double> h_of, decay, freq;
+    const double omega = std::sqrt(1 - alpha * alpha / 4);
+    for (double m : ms) {
+      const double hm = kTwoPi / m;
+      const auto r = run_composed_structure<Osc::Leapfrog, true>(stage_steps(family, hm), alpha, -0.25, 0.75, hm,
+                                                                 std::lround(periods * m), 200);
+      h_of.push_back(hm);
+      decay.push_back(std::abs(r.decay_rate - alpha) / alpha);
+      freq.push_back(std::abs(r.frequency - omega) / omega);
+    }
+    INFO(family << ": decay " << Catch::Detail::stringify(decay) << ", frequency " << Catch::Detail::stringify(freq));
+    return std::pair<double, double>{fit_order(h_of, decay).slope, fit_order(h_of, freq).slope};
+  };
+  const auto [y4_d, y4_f] = slopes("yoshida4", {16, 32, 64, 128});
+  const auto [y6_d, y6_f] = slopes("yoshida6a", {8, 16, 32});
+  CHECK(y4_d == Approx(4).margin(0.2));
+  CHECK(y4_f == Approx(4).margin(0.2));
+  CHECK(y6_d == Approx(6).margin(0.3));
+  CHECK(y6_f == Approx(6).margin(0.3));
 }
 
 TEST_CASE("one-step maps contract phase-space area by exactly their derived determinant (AD Jacobian)",

@@ -19,6 +19,9 @@ TEST_CASE("long-horizon programs reject bad input with one line, exit 2, and wri
   check_rejected("long_horizon_oscillator", "--periods 102", "multiple of --window-periods");
   check_rejected("long_horizon_oscillator", "--alpha 1 --window-periods 5", "lower --window-periods");
   check_rejected("long_horizon_oscillator", "--reps 0", "reps must be in");
+  check_rejected("long_horizon_oscillator", "--compositions la-trapezoid", "--compositions takes <family>:<base>");
+  check_rejected("long_horizon_oscillator", "--compositions yoshida4:la", "cannot be composed");
+  check_rejected("long_horizon_oscillator", "--compositions nosuch:la-trapezoid", "nosuch");
   check_rejected("long_horizon_foucault", "--h 0.07", "not an integer");
   check_rejected("long_horizon_foucault", "--T 10", "T must be in");
   check_rejected("long_horizon_foucault", "--alpha=-1", "alpha");

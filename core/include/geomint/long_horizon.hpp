@@ -155,11 +155,12 @@ inline int renormalisation_shift(double q, double p) {
   return -std::ilogb(m);
 }
 
-// A long run split into `windows` windows, in steps of an oscillator closed form S (systems/oscillator.hpp):
-// boundary k after round(k N / windows) steps. Work by the trapezoid rule on the step points (the schemes carry
-// no quadrature of their own). Measure = false is the same run with nothing observed (for timings).
-template <class S, bool Measure>
-OscillatorStructure run_fixed_structure(double alpha, double q0, double p0, double h, long N, long windows) {
+// A long run split into `windows` windows, in steps of h by step(OscState<double>&) (a closed form of
+// systems/oscillator.hpp, or a composition of one): boundary k after round(k N / windows) steps. Work by the
+// trapezoid rule on the step points (the schemes carry no quadrature of their own). Measure = false is the same
+// run with nothing observed (for timings).
+template <bool Measure, class Step>
+OscillatorStructure run_structure(Step&& step, double alpha, double q0, double p0, double h, long N, long windows) {
   OscillatorProbe probe(alpha, h * static_cast<double>(N));
   OscState<double> s{q0, p0, 0.0};
   int scale = 0;
@@ -171,7 +172,7 @@ OscillatorStructure run_fixed_structure(double alpha, double q0, double p0, doub
     double work = 0;
     for (; j < end; ++j) {
       const double pm = s.p;
-      S::step(s, h, alpha);
+      step(s);
       if (Measure) {
         work += alpha * h / 2 * (pm * pm + s.p * s.p);
         if ((j + 1) % every == 0) probe.point(static_cast<double>(j + 1) * h, s.q, s.p, scale);
@@ -190,6 +191,26 @@ OscillatorStructure run_fixed_structure(double alpha, double q0, double p0, doub
   }
   do_not_optimize(s.q);
   return Measure ? probe.result(N) : OscillatorStructure{};
+}
+
+// The run in steps of the closed form S.
+template <class S, bool Measure>
+OscillatorStructure run_fixed_structure(double alpha, double q0, double p0, double h, long N, long windows) {
+  return run_structure<Measure>([h, alpha](OscState<double>& s) { S::step(s, h, alpha); }, alpha, q0, p0, h, N, windows);
+}
+
+// The run in steps of a composition of the closed form S: a composition is its base map at each stage step
+// w_i h (generic/composition.hpp), so on this system it is S at those steps, as long as S holds for negative steps
+// (every closed form of the oscillator is its scheme's exact solution, valid for any h with 1 + h alpha/2 != 0).
+// stage_h: the w_i h, rounded from long double as Composition does.
+template <class S, bool Measure>
+OscillatorStructure run_composed_structure(const std::vector<double>& stage_h, double alpha, double q0, double p0,
+                                           double h, long N, long windows) {
+  return run_structure<Measure>(
+      [&stage_h, alpha](OscState<double>& s) {
+        for (const double hi : stage_h) S::step(s, hi, alpha);
+      },
+      alpha, q0, p0, h, N, windows);
 }
 
 // The ODE methods integrate x = (q, p, W) with W' = alpha p^2 (the work, by the method's own quadrature),
