@@ -13,7 +13,7 @@
 // A run that fails is a missing value (nan) with a message naming method, parameters and step.
 //   long_horizon_oscillator [--alpha 0.01 0.1] [--periods 100 1000] [--m 16 32 64 128 256] [--tol 1e-5 1e-7 1e-9 1e-11]
 //                [--window-periods 5] [--reps 3] [--compositions yoshida4:la-trapezoid ...] [--out out]
-// The study in docs/speed-accuracy.md (about 10 minutes on one core):
+// The study in docs/speed-accuracy.md (6 minutes on one idle core, compositions included):
 //   long_horizon_oscillator --periods 1000 10000 100000 --m 16 32 64 128 256 512 --tol 1e-4 1e-6 1e-8 1e-10 1e-12
 // Writes out/long_horizon_oscillator.tsv (errors: the same bits for the same command),
 // out/long_horizon_oscillator_timings.tsv, out/long_horizon_oscillator_summary.tsv (times to reach each target,
@@ -74,9 +74,7 @@ Runner geometric(const std::string& name, double alpha, double q0, double p0, do
 // A composition "<family>:<base>" of a symmetric scheme of the oscillator: the base's closed form at each stage step.
 Runner composed(const std::string& name, double alpha, double q0, double p0, double h, long N, long windows) {
   const auto cn = generic::parse_composition_name(name);
-  std::vector<double> stage_h;  // w_i h, rounded from long double as generic::Composition does
-  for (const long double w : generic::find_composition_family(cn.family).weights)
-    stage_h.push_back(static_cast<double>(w * static_cast<long double>(h)));
+  const std::vector<double> stage_h = composition_stage_steps(cn.family, h);
   Runner run;
   generic::visit_closed_form<systems::Oscillator>(cn.base, [&](auto c) {
     using S = decltype(c);

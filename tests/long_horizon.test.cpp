@@ -10,7 +10,6 @@
 #include <gsl/gsl_integration.h>
 
 #include "geomint/foucault_diagnostics.hpp"
-#include "geomint/generic/composition_families.hpp"
 #include "geomint/generic/dual.hpp"
 #include "geomint/long_horizon.hpp"
 #include "geomint/registry.hpp"
@@ -172,14 +171,6 @@ TEST_CASE("decay-rate and frequency errors fall with the schemes' orders", "[lon
   CHECK(lf_f == Approx(2).margin(0.1));
 }
 
-// The stage steps w_i h of a composition family, rounded from long double as generic::Composition does.
-std::vector<double> stage_steps(const char* family, double h) {
-  std::vector<double> hs;
-  for (const long double w : generic::find_composition_family(family).weights)
-    hs.push_back(static_cast<double>(w * static_cast<long double>(h)));
-  return hs;
-}
-
 TEST_CASE("a composition of the leapfrog's closed form is the registry's composition, and its structural errors fall "
           "at its order", "[long_horizon][oscillator][composition]") {
   // The same map: the registry steps the composition through the generic Newton step of la-trapezoid, stage by
@@ -190,7 +181,7 @@ TEST_CASE("a composition of the leapfrog's closed form is the registry's composi
   const Run run = find_system("oscillator").run({{"alpha", alpha}, {"T", 100}}, "yoshida6a:la-trapezoid", h, Path::fast, 1);
   REQUIRE(run.steps == 1000);
   OscState<double> s{run.q[0], run.p[0], 0.0};
-  const auto hs = stage_steps("yoshida6a", h);
+  const auto hs = composition_stage_steps("yoshida6a", h);
   double worst = 0;
   for (long j = 1; j <= run.steps; ++j) {
     for (const double hi : hs) Osc::Leapfrog::step(s, hi, alpha);
@@ -207,7 +198,7 @@ TEST_CASE("a composition of the leapfrog's closed form is the registry's composi
     const double omega = std::sqrt(1 - alpha * alpha / 4);
     for (double m : ms) {
       const double hm = kTwoPi / m;
-      const auto r = run_composed_structure<Osc::Leapfrog, true>(stage_steps(family, hm), alpha, -0.25, 0.75, hm,
+      const auto r = run_composed_structure<Osc::Leapfrog, true>(composition_stage_steps(family, hm), alpha, -0.25, 0.75, hm,
                                                                  std::lround(periods * m), 200);
       h_of.push_back(hm);
       decay.push_back(std::abs(r.decay_rate - alpha) / alpha);

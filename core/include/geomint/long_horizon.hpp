@@ -36,6 +36,7 @@
 #include <gsl/gsl_odeiv2.h>
 
 #include "geomint/error.hpp"
+#include "geomint/generic/composition_families.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/gsl_evolve.hpp"
 #include "geomint/observers.hpp"
@@ -199,10 +200,19 @@ OscillatorStructure run_fixed_structure(double alpha, double q0, double p0, doub
   return run_structure<Measure>([h, alpha](OscState<double>& s) { S::step(s, h, alpha); }, alpha, q0, p0, h, N, windows);
 }
 
+// The stage steps w_i h of the composition family `family` (composition_families.hpp), each rounded from long double
+// as generic::Composition rounds its own.
+inline std::vector<double> composition_stage_steps(const std::string& family, double h) {
+  std::vector<double> hs;
+  for (const long double w : generic::find_composition_family(family).weights)
+    hs.push_back(static_cast<double>(w * static_cast<long double>(h)));
+  return hs;
+}
+
 // The run in steps of a composition of the closed form S: a composition is its base map at each stage step
 // w_i h (generic/composition.hpp), so on this system it is S at those steps, as long as S holds for negative steps
 // (every closed form of the oscillator is its scheme's exact solution, valid for any h with 1 + h alpha/2 != 0).
-// stage_h: the w_i h, rounded from long double as Composition does.
+// stage_h: composition_stage_steps(family, h).
 template <class S, bool Measure>
 OscillatorStructure run_composed_structure(const std::vector<double>& stage_h, double alpha, double q0, double p0,
                                            double h, long N, long windows) {
