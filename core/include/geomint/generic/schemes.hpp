@@ -54,6 +54,7 @@ struct Left {
   static constexpr const char* name = "left";
   static constexpr const char* scheme = "la";  // the scheme's name on command lines
   static constexpr int order = 1;
+  static constexpr bool psi_at_start = true;  // Psi samples A and b at (t_j, q_j) (see constraint_block)
   template <class Sys, class S, int n = Sys::dof>
   static Sample<S, n> psi(const S& t, const S& h, const Vec<S, n>& q0, const Vec<S, n>& q1) {
     return {t, q0, (q1 - q0) / h};
@@ -137,6 +138,7 @@ struct Left {
   static constexpr const char* scheme = "contact";
   static constexpr int order = 1;
   static constexpr bool implicit_z = false;
+  static constexpr bool psi_at_start = true;
   template <class Sys, class S, int n = Sys::dof>
   static Sample<S, n> psi(const S& t, const S& h, const Vec<S, n>& q0, const Vec<S, n>& q1) {
     return {t, q0, (q1 - q0) / h};
@@ -204,6 +206,10 @@ template <class S, int m>
 struct ConstraintRows {
   Vec<S, m> value, scale;
 };
+template <class S, int n, int m>
+ConstraintRows<S, m> constraint_rows_from(const Mat<S, m, n>& A, const Vec<S, m>& b, const Vec<S, n>& v) {
+  return {A * v + b, A.cwiseAbs() * v.cwiseAbs() + b.cwiseAbs()};
+}
 template <class Sys, class Quad, class S, int n = Sys::dof>
 ConstraintRows<S, Sys::constraints> discrete_constraint_rows(const Sys& sys, const S& t, const S& h, const Vec<S, n>& q0,
                                                              const Vec<S, n>& q1) {
@@ -212,9 +218,36 @@ ConstraintRows<S, Sys::constraints> discrete_constraint_rows(const Sys& sys, con
     return {sys.holonomic(S(t + h), q1), Vec<S, m>::Zero()};
   } else {
     const auto x = Quad::template psi<Sys>(t, h, q0, q1);
-    const Mat<S, m, n> A = sys.constraint_matrix(x.t, x.q);
-    const Vec<S, m> b = sys.constraint_offset(x.t, x.q);
-    return {A * x.v + b, A.cwiseAbs() * x.v.cwiseAbs() + b.cwiseAbs()};
+    return constraint_rows_from<S, n, m>(sys.constraint_matrix(x.t, x.q), sys.constraint_offset(x.t, x.q), x.v);
+  }
+}
+
+// Whether a quadrature's Psi samples the constraint at the start of the step, (t_j, q_j) (`psi_at_start`).
+template <class Quad, class = void>
+struct psi_at_start : std::false_type {};
+template <class Quad>
+struct psi_at_start<Quad, std::enable_if_t<Quad::psi_at_start>> : std::true_type {};
+
+// The constraint's part of a step's rows, the same for both principles: Phi_d (with its scale) and the covector
+// A(t_j, q_j) of the impulse -A^T lambda in the dynamics rows. The stepper also evaluates it alone, in dual numbers
+// over q_{j+1}, to bring a Jacobian kept from the last step up to date in these rows and columns (generic/newton.hpp
+// says why those and not the others).
+template <class S, int n, int m>
+struct ConstraintBlock {
+  ConstraintRows<S, m> phi;
+  Mat<S, m, n> A;
+};
+// Where Psi samples at (t_j, q_j), Phi_d is formed from that same A (a sin and a cos fewer on the knife edge).
+template <class Sys, class Quad, class S, int n = Sys::dof>
+ConstraintBlock<S, n, Sys::constraints> constraint_block(const Sys& sys, const S& t, const S& h, const Vec<S, n>& q0,
+                                                         const Vec<S, n>& q1) {
+  constexpr int m = Sys::constraints;
+  const Mat<S, m, n> A = sys.constraint_matrix(t, q0);
+  if constexpr (psi_at_start<Quad>::value && !has_holonomic_v<Sys>) {
+    const auto x = Quad::template psi<Sys>(t, h, q0, q1);
+    return {constraint_rows_from<S, n, m>(A, sys.constraint_offset(t, q0), x.v), A};
+  } else {
+    return {discrete_constraint_rows<Sys, Quad>(sys, t, h, q0, q1), A};
   }
 }
 
@@ -354,14 +387,13 @@ struct LagrangeDAlembert {
     r.dynamics = D.d1 + fm + p0;
     r.dynamics_scale = D.d1.cwiseAbs() + fm.cwiseAbs() + p0.cwiseAbs();
     if constexpr (m > 0) {
-      const Mat<S, m, n> A = sys.constraint_matrix(t, q0);
-      const Vec<S, n> force = A.transpose() * lambda;
+      const auto cb = constraint_block<Sys, Quad>(sys, t, h, q0, q1);
+      const Vec<S, n> force = cb.A.transpose() * lambda;
       r.dynamics -= force;
-      r.dynamics_lambda = -A.transpose();
+      r.dynamics_lambda = -cb.A.transpose();
       r.dynamics_scale += force.cwiseAbs();
-      const auto phi = discrete_constraint_rows<Sys, Quad>(sys, t, h, q0, q1);
-      r.constraint = phi.value;
-      r.constraint_scale = phi.scale;
+      r.constraint = cb.phi.value;
+      r.constraint_scale = cb.phi.scale;
     }
     r.action = S(0);
     r.action_scale = S(0);
@@ -453,14 +485,13 @@ struct Herglotz {
     r.dynamics = D.d1 + c * p0;
     r.dynamics_scale = D.d1.cwiseAbs() + abs(c) * p0.cwiseAbs();
     if constexpr (m > 0) {
-      const Mat<S, m, n> A = sys.constraint_matrix(t, q0);
-      const Vec<S, n> force = A.transpose() * lambda;
+      const auto cb = constraint_block<Sys, Quad>(sys, t, h, q0, q1);
+      const Vec<S, n> force = cb.A.transpose() * lambda;
       r.dynamics -= force;
-      r.dynamics_lambda = -A.transpose();
+      r.dynamics_lambda = -cb.A.transpose();
       r.dynamics_scale += force.cwiseAbs();
-      const auto phi = discrete_constraint_rows<Sys, Quad>(sys, t, h, q0, q1);
-      r.constraint = phi.value;
-      r.constraint_scale = phi.scale;
+      r.constraint = cb.phi.value;
+      r.constraint_scale = cb.phi.scale;
     }
     if constexpr (Quad::implicit_z) {
       r.action = z1 - z0 - D.value;
