@@ -80,3 +80,8 @@ TEST_CASE("particle: the LA step is the fast path of the generic la scheme, equa
 TEST_CASE("particle: Newton's Jacobian, lambda columns from the rows, is the full forward pass's", "[generic][newton]") {
   testing::check_linearization(systems::NonholonomicParticle{}, 0.05);
 }
+
+TEST_CASE("particle: a kept Jacobian, its constraint block brought up to date, solves a step in one update",
+          "[generic][newton]") {
+  testing::check_kept_jacobian(systems::NonholonomicParticle{}, 0.05, 200);  // the system's horizon T = 10
+}

@@ -111,6 +111,12 @@ TEST_CASE("foucault, both constraints: Newton's Jacobian, lambda columns from th
   check_linearization(rotation, 0.1);
 }
 
+TEST_CASE("foucault, both constraints: a kept Jacobian, its constraint block brought up to date, solves a step in one "
+          "update", "[generic][newton]") {
+  check_kept_jacobian(systems::Foucault{}, 0.1, 36000);  // the paper's hour
+  check_kept_jacobian(systems::FoucaultRotation{}, 0.1, 36000);
+}
+
 TEST_CASE("foucault: contact-trapezoid with z_{j+1} solved inside the rows is the step with z_{j+1} an unknown", "[generic][newton]") {
   systems::Foucault paper;
   paper.Omega = 0.05;

@@ -4,7 +4,9 @@
 //   the rows        Scheme::rows (generic/schemes.hpp) at the unknowns x = (q_{j+1}, [z_{j+1}], lambda):
 //                   K = n + [1] + m rows, their round-off scales, and the outputs p_{j+1}, z_{j+1}
 //   the Jacobian    assembled here by forward-mode AD of the rows (one pass of Dual<T, K>): J, dp/dx, dz/dx
-//   the solve       JacobianInverse, the stopping rule and Newton's Jacobian policy (generic/newton.hpp)
+//   the solve       JacobianInverse (by blocks with constraints), the stopping rule and Newton's Jacobian policy
+//                   (generic/newton.hpp), with a kept Jacobian's constraint block brought up to date every step
+//                   (refresh_constraint_block)
 //   the predictor   the initial guess from the last steps (generic/predictor.hpp)
 //   the action row  of a quadrature implicit in z (contact-trapezoid), solved for z_{j+1} inside the rows, so that
 //                   Newton's unknowns are (q_{j+1}, lambda) as for every other scheme (solved_z below)
@@ -49,7 +51,7 @@ class Stepper {
   using VecK = Vec<T, K>;
   using MatK = Mat<T, K, K>;
 
-  static constexpr int max_updates = Newton<T, K, n>::max_updates;
+  static constexpr int max_updates = Newton<T, K, n, m>::max_updates;
   static constexpr int kappa = StoppingRule<T, K>::kappa;
 
   struct State {
@@ -93,7 +95,9 @@ class Stepper {
   }
 
   void step() {
-    advance(single_update_ && kAffineMap ? predictor_.last() : predictor_.predict(h_));
+    // the affine step map needs no guess, nor a history to extrapolate
+    const bool map = single_update_ && kAffineMap;
+    advance(map ? predictor_.last() : predictor_.predict(h_), !map);
     s_.t = t0_ + T(s_.j) * h_;  // t_j = t0 + j h, never accumulated
   }
 
@@ -126,6 +130,32 @@ class Stepper {
     Linearized l;
     jacobian(x, l.R, l.scale, l.out, l.lin);
     return l;
+  }
+
+  // The constraint rows of a kept Jacobian (dPhi_d / dq_{j+1}) and its multiplier columns (-A(t_j, q_j)^T),
+  // assembled anew at x from the scheme's constraint block alone: the parts of J that move with q_j (and with
+  // t_{j+1} for a rheonomic constraint) and to which lambda is most sensitive (generic/newton.hpp). A pass of
+  // Dual<T, n> over the m constraint rows, against the full Jacobian's pass over every row with the Lagrangian's
+  // partials nested inside it. The dynamics block and the outputs' derivatives dP, dZ (used only by the final
+  // correction, an update at round-off) stay as kept. The entries are those the full pass gives (the same
+  // functions in the same dual type, direction by direction), so a system whose A and b are constant keeps its
+  // bits (tests/generic_checks.hpp compares them entry for entry). An implicit-z row's entries stay as kept:
+  // Phi_d does not depend on z_{j+1}.
+  [[GEOMINT_HOT_FLATTEN]] bool refresh_constraint_block(const VecK& x, MatK& J) const {
+    if constexpr (m == 0) {
+      return false;
+    } else {
+      using D = Dual<T, n>;
+      Vec<D, n> Q1;
+      for (int i = 0; i < n; ++i) Q1(i) = D::variable(x(i), i);
+      const auto cb = constraint_block<Sys, typename Scheme::quadrature>(sys_, D(s_.t), D(h_),
+                                                                          Vec<D, n>(s_.q.template cast<D>()), Q1);
+      for (int r = 0; r < m; ++r)
+        for (int c = 0; c < n; ++c) J(n + nz + r, c) = cb.phi.value(r).d[static_cast<std::size_t>(c)];
+      for (int r = 0; r < n; ++r)
+        for (int c = 0; c < m; ++c) J(r, Nx + c) = -cb.A(c, r).v;
+      return true;
+    }
   }
 
   // z_{j+1} of an implicit-z quadrature at the given q_{j+1}, from the current state: its action row
@@ -162,14 +192,16 @@ class Stepper {
   }
 
  private:
-  // Solves the step from s_ starting at `guess` and moves s_ to its result (all but the time).
-  void advance(const VecK& guess) {
+  // Solves the step from s_ starting at `guess` and moves s_ to its result (all but the time); `remember`: the
+  // result enters the predictor's history (the affine step map, which ignores the guess, skips it: the map stays
+  // in use until the next start).
+  void advance(const VecK& guess, bool remember = true) {
     const VecK x = single_update_ ? solve_single_update(guess) : solve(guess);
     s_.q = x.template head<n>();
     s_.p = out_.p_next;
     s_.z = out_.z_next;
     if constexpr (m > 0) s_.lambda = x.template tail<m>();
-    predictor_.accept(current());
+    if (remember) predictor_.accept(current());
     ++s_.j;
   }
 
@@ -271,7 +303,8 @@ class Stepper {
         [&](const VecK& y, VecK& R, VecK& scale, StepOutput<T, n>& out, Linearization<T, K, n>& lin) {
           jacobian(y, R, scale, out, lin);
         },
-        out_, [&](const VecK& R, const VecK& bounds, int u, const char* why) { fail(R, bounds, u, why); }, updates,
+        [&](const VecK& y, MatK& J) { return refresh_constraint_block(y, J); }, out_,
+        [&](const VecK& R, const VecK& bounds, int u, const char* why) { fail(R, bounds, u, why); }, updates,
         is_linear<Sys>());
     // a linear system takes the single-update path once its Jacobian has solved a step in one update
     if constexpr (is_linear<Sys>() && nz == 0)
@@ -416,7 +449,7 @@ class Stepper {
   T h_, t0_;
   State s_;
   Predictor<T, K, n> predictor_;
-  Newton<T, K, n> newton_;
+  Newton<T, K, n, m> newton_;
   StepOutput<T, n> out_;  // p_{j+1}, z_{j+1} at the last iterate whose rows were evaluated
   int last_updates_ = 0;
   long total_updates_ = 0;
