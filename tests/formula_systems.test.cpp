@@ -24,6 +24,13 @@
 #include "geomint/formula/formula_system.hpp"
 #include "geomint/generic/schemes.hpp"
 #include "geomint/registry.hpp"
+#include "geomint/systems/coupled_oscillators.hpp"
+#include "geomint/systems/forced_oscillator.hpp"
+#include "geomint/systems/foucault.hpp"
+#include "geomint/systems/knife_edge.hpp"
+#include "geomint/systems/nonholonomic_particle.hpp"
+#include "geomint/systems/oscillator.hpp"
+#include "geomint/systems/pendulum.hpp"
 
 using namespace geomint;
 
@@ -97,6 +104,32 @@ TEST_CASE("header systems written as formulas step within the round-off bound of
   cross_check("coupled-oscillators", {{"alpha", 0.3}, {"kappa", 2}, {"q20", 0.4}, {"T", 10}}, 0.05, Expect::bound);
   cross_check("particle", {{"alpha", 0.3}, {"y0", 0.7}, {"T", 10}}, 0.05, Expect::bound);
   cross_check("foucault-rotation", {{"alpha", 0.1}, {"T", 4}, {"y0", 0.3}}, 0.02, Expect::bound);
+}
+
+TEST_CASE("systems written as formulas find the linear dynamics their headers declare", "[formula][cross]") {
+  // L quadratic in (q, v) and F affine with constant coefficients, the constraint anything (a holonomic g affine in
+  // q): the stepper then takes one Newton update a step on the schemes whose rows are affine (generic/system.hpp).
+  // Declared in a header, found from the formulas (formula/model.cpp): the same answer for every header system,
+  // which is also what makes the formula systems' steps the headers' bits above.
+  auto check = [](const char* name, bool expected) {
+    const auto model = formula::load_system_file(system_file(name));
+    INFO(name);
+    CHECK(model->linear_dynamics == expected);
+  };
+  check("pendulum", generic::has_linear_dynamics<systems::Pendulum>());
+  check("oscillator", generic::has_linear_dynamics<systems::Oscillator>());
+  check("forced-oscillator", generic::has_linear_dynamics<systems::ForcedOscillator>());
+  check("coupled-oscillators", generic::has_linear_dynamics<systems::CoupledOscillators>());
+  check("knife-edge", generic::has_linear_dynamics<systems::KnifeEdge>());
+  check("particle", generic::has_linear_dynamics<systems::NonholonomicParticle>());
+  check("foucault", generic::has_linear_dynamics<systems::Foucault>());
+  check("foucault-rotation", generic::has_linear_dynamics<systems::FoucaultRotation>());
+  // without headers: the sleigh and the rolling disk (quadratic L, rows nonlinear in q) have it; the double pendulum
+  // (gravity cos q, a mass matrix that depends on the angles) and the Cartesian one (quadratic g) do not
+  check("chaplygin-sleigh", true);
+  check("rolling-disk", true);
+  check("double-pendulum", false);
+  check("double-pendulum-cartesian", false);
 }
 
 TEST_CASE("the continuous equations from the formulas are the headers' (Odeint right-hand side)", "[formula][cross]") {

@@ -36,6 +36,24 @@ TEST_CASE("a system that wrongly declares itself linear is caught by the single-
   CHECK(so.total_updates() == 20000);
 }
 
+namespace {
+struct NotLinearDynamics : systems::Pendulum {
+  static constexpr bool linear_dynamics = true;
+};
+}  // namespace
+
+TEST_CASE("a system that wrongly declares linear dynamics is caught by the single-update path's check", "[generic][newton]") {
+  // The pendulum's L is not quadratic in q. Its `contact` rows are affine in q_{j+1} all the same (they take dL/dq
+  // at q_j alone), but its p_{j+1} = D2 L_d takes dL/dq at q_{j+1}: declared so, the stepper takes one update a step,
+  // p_{j+1} moves with it by its derivative, and the periodic check finds it off its value at the solution. (On `la`
+  // the declaration would be true enough: L quadratic in q' makes its rows and p_{j+1} affine.)
+  NotLinearDynamics sys;
+  sys.q0 = 2.5;
+  generic::Stepper<NotLinearDynamics, generic::ContactLeft> st(sys, 0.1);
+  st.start(sys.initial_position<double>(), sys.initial_velocity<double>());
+  CHECK_THROWS_WITH([&] { for (int j = 0; j < 2000; ++j) st.step(); }(), Catch::Contains("has linear dynamics"));
+}
+
 TEST_CASE("pendulum: Newton's Jacobian (z_{j+1} solved inside the rows for contact-trapezoid) is the full forward pass's", "[generic][newton]") {
   testing::check_linearization(systems::Pendulum{}, 0.1);
 }

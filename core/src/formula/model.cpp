@@ -159,6 +159,35 @@ class ModelCompiler {
       }
     }
 
+    // Linear dynamics: the second derivatives of L and of the Herglotz form in (q, v), the Herglotz form's
+    // derivative in z and the first derivatives of F in (q, v) free of every variable, t included (constant
+    // coefficients; a forcing term in t alone is allowed), and a holonomic g with a gradient free of q. A
+    // derivative the simplifier leaves in a form that still names a variable only costs the shortcut.
+    {
+      const std::uint32_t state = V.bit(V.t()) | V.q_bits() | V.v_bits() | V.bit(V.z());
+      auto constant = [&](int id) { return (ex_[id].uses & state) == 0; };
+      std::vector<int> qv;
+      for (int k = 0; k < n; ++k) qv.push_back(V.q(k));
+      for (int k = 0; k < n; ++k) qv.push_back(V.v(k));
+      auto quadratic = [&](int e) {
+        for (int a : qv) {
+          const int d = ex_.derivative(e, a);
+          for (int c : qv)
+            if (!constant(ex_.derivative(d, c))) return false;
+        }
+        return true;
+      };
+      bool linear = quadratic(L);
+      if (linear && H >= 0) linear = quadratic(H) && constant(ex_.derivative(H, V.z()));
+      for (int f : F)
+        for (int a : qv)
+          if (linear && !constant(ex_.derivative(f, a))) linear = false;
+      if (M.holonomic)
+        for (int a : A)
+          if ((ex_[a].uses & V.q_bits()) != 0) linear = false;
+      M.linear_dynamics = linear;
+    }
+
     // The initial data.
     std::vector<int> init;
     for (int part = 0; part < 2; ++part) {

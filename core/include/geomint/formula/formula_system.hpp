@@ -70,6 +70,7 @@ class FormulaSystemT {
   const std::string& name() const { return model_->name; }
   const std::string& description() const { return model_->description; }
   bool has_herglotz() const { return model_->has_herglotz(); }
+  bool linear_dynamics_found() const { return model_->linear_dynamics; }
 
   // The parameters by name, as a header system's fields (v(name, value, doc)); the derived values follow.
   template <class V>

@@ -30,6 +30,10 @@ struct CompileOptions {
   // A Herglotz Lagrangian inconsistent with the force is an error (FormulaSystem::validate) instead of a
   // warning (FormulaSystem::warnings).
   bool strict_herglotz = false;
+  // L (and the Herglotz form) quadratic in (q, v) and F affine in them, all with constant coefficients, and a
+  // holonomic g affine in q: the stepper's single-update path applies where the rows are then affine
+  // (generic/system.hpp, `linear_dynamics`). Found from the formulas.
+  bool linear_dynamics = false;
 };
 
 struct FormulaParameter {
@@ -51,6 +55,10 @@ class FormulaModel {
   int n = 0, m = 0;
   bool holonomic = false;
   bool strict_herglotz = false;
+  // L (and the Herglotz form) quadratic in (q, v) and F affine in them, all with constant coefficients, and a
+  // holonomic g affine in q: the stepper's single-update path applies where the rows are then affine
+  // (generic/system.hpp, `linear_dynamics`). Found from the formulas.
+  bool linear_dynamics = false;
   std::vector<FormulaParameter> parameters;  // includes T, the horizon
 
   // The parameter table of the tapes, pv = (numbers | parameters | derived values).

@@ -259,6 +259,13 @@ class Newton {
     return x;
   }
 
+  // Brings the kept Jacobian's constraint block up to date at x, for a step that takes its one update outside
+  // solve (the stepper's single-update path); refresh as in solve.
+  template <class Refresh>
+  void refresh_kept(const VecK& x, Refresh&& refresh) {
+    if (refresh(x, lin_.J)) solver_.refresh_constraint(lin_.J);
+  }
+
   void invalidate() {  // the next evaluation assembles a fresh Jacobian, and the policy starts over
     need_jacobian_ = true;
     backoff_ = wait_ = 0;

@@ -27,6 +27,14 @@
 //                                            term is allowed): every step is the same linear solve, done with one
 //                                            Newton update (checked at run time); without forcing, a linear map
 //                                            (stability maps)
+//   static constexpr bool linear_dynamics = true;  the same of L and F (with the Herglotz form L - alpha z), while A
+//                                            and b may be any functions (a holonomic g must be affine in q): the
+//                                            schemes that sample the constraint at the start of the step (la,
+//                                            contact; with g, every scheme) then have rows affine in their
+//                                            unknowns, and take one Newton update a step as a linear system does
+//                                            (checked at run time the same way). `linear` implies it.
+//   bool linear_dynamics_found() const;      the same, found at run time (a system defined by formulas examines
+//                                            its own: formula/model.cpp)
 #include <type_traits>
 #include <utility>
 
@@ -76,12 +84,33 @@ GEOMINT_DETECT(has_rhs, std::declval<const Sys&>().rhs(0.0, detail::V<Sys>(), de
                                                        std::declval<detail::V<Sys>&>()))
 GEOMINT_DETECT(has_linear_flag, Sys::linear)
 GEOMINT_DETECT(has_autonomous_flag, Sys::autonomous)
+GEOMINT_DETECT(has_linear_dynamics_flag, Sys::linear_dynamics)
+GEOMINT_DETECT(has_linear_dynamics_query, std::declval<const Sys&>().linear_dynamics_found())
 #undef GEOMINT_DETECT
 
 template <class Sys>
 constexpr bool is_linear() {
   if constexpr (has_linear_flag_v<Sys>)
     return Sys::linear;
+  else
+    return false;
+}
+
+template <class Sys>
+constexpr bool has_linear_dynamics() {
+  if constexpr (has_linear_dynamics_flag_v<Sys>)
+    return Sys::linear_dynamics || is_linear<Sys>();
+  else
+    return is_linear<Sys>();
+}
+
+// Linear dynamics as declared, or as found by a system that can tell at run time.
+template <class Sys>
+bool linear_dynamics_of(const Sys& sys) {
+  if constexpr (has_linear_dynamics<Sys>())
+    return true;
+  else if constexpr (has_linear_dynamics_query_v<Sys>)
+    return sys.linear_dynamics_found();
   else
     return false;
 }

@@ -802,6 +802,7 @@ struct Foucault : FoucaultPendulum, PaperConstraint<Foucault> {
   static constexpr const char* name = "foucault";
   static constexpr const char* description = "damped Foucault pendulum (Section 3.2) with the nonholonomic constraint (13)";
   static constexpr const char* discretization = "paper";  // the third row of (15), (18): (13) o Psi
+  static constexpr bool linear_dynamics = true;  // L quadratic, F linear; (13)'s A and b are not affine
   using PaperConstraint<Foucault>::constraint_matrix;
   using PaperConstraint<Foucault>::constraint_offset;
   template <class P>
@@ -856,7 +857,9 @@ struct FoucaultRotation : FoucaultPendulum, RotationConstraint<FoucaultRotation>
       "damped Foucault pendulum, constraint (13) as the exact rotation of the plane (the remedy for the anomaly)";
   static constexpr const char* discretization = "rotation";  // n(phi_{j+1}).q_{j+1} = 0, force along n(phi_j)
   // Not `linear`: each step is a linear solve, but its matrix turns with the plane (A = n(phi(t_j))), so a kept
-  // Jacobian is stale — the linear lane's check caught this declaration (tests/system_pendulum.test.cpp).
+  // Jacobian is stale — the linear lane's check caught this declaration. Linear dynamics with g = n(phi(t)).q
+  // affine in q: the single-update path brings the constraint block of the kept Jacobian up to date every step.
+  static constexpr bool linear_dynamics = true;
 
   using RotationConstraint<FoucaultRotation>::constraint_matrix;
   using RotationConstraint<FoucaultRotation>::constraint_offset;

@@ -23,6 +23,7 @@ struct KnifeEdgeT {
   static constexpr const char* description = "damped knife edge (Chaplygin skate) in a harmonic well, constraint sin(th) x' = cos(th) y'";
   static constexpr int dof = 3;
   static constexpr int constraints = 1;
+  static constexpr bool linear_dynamics = true;  // L quadratic, F linear; the blade's A(q) is not affine
 
   P m = 1, I = 0.5, k = 1, kappa = 2, alpha = 0.1;
   P x0 = 1, y0 = 0, theta0 = 0.8, u0 = 0.5, omega0 = 0, T = 20;

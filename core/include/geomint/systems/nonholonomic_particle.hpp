@@ -31,6 +31,7 @@ struct NonholonomicParticleT {
   static constexpr const char* description = "damped nonholonomic particle in a harmonic well, constraint z' = y x'";
   static constexpr int dof = 3;
   static constexpr int constraints = 1;
+  static constexpr bool linear_dynamics = true;  // L quadratic, F linear; z' = y x' is not affine
 
   P m = 1, w2 = 1, alpha = 0.1;
   P x0 = 1, y0 = 0.5, z0 = -0.3, vx0 = 0.2, vy0 = -0.4, vz0 = 0.1, T = 10;
