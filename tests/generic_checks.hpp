@@ -222,6 +222,37 @@ void check_linearization(const Sys& sys, double h) {
   }, generic::AllSchemesTuple{});
 }
 
+// ---- two steppers side by side
+// Two steppers of one system started from its initial data and stepped together: the largest difference of their
+// states (q, p, z) over N steps, the largest size of the second's, the Newton updates of each, and the bound both
+// tests below hold it to. Each accepts a step within kappa eps of each row's round-off scale, so they may differ by
+// that much a step, carried along by a flow that does not amplify it (damped): over N steps no more than
+// N kappa eps (1 + the largest |q|, |p|, |z|).
+struct SideBySide {
+  double worst = 0, size = 0;
+  long updates_a = 0, updates_b = 0;
+  double bound(long N) const { return double(N) * 16 * std::numeric_limits<double>::epsilon() * (1 + size); }
+};
+template <class Sys, class A, class B>
+SideBySide side_by_side(const Sys& sys, A& a, B& b, long N) {
+  const auto q0 = sys.template initial_position<double>();
+  const auto v0 = sys.template initial_velocity<double>();
+  a.start(q0, v0);
+  b.start(q0, v0);
+  SideBySide r;
+  for (long j = 0; j < N; ++j) {
+    a.step();
+    b.step();
+    r.updates_a += a.last_updates();
+    r.updates_b += b.last_updates();
+    const auto &x = a.state(), &y = b.state();
+    r.worst = std::max({r.worst, (x.q - y.q).template lpNorm<Eigen::Infinity>(), (x.p - y.p).template lpNorm<Eigen::Infinity>(),
+                        std::abs(x.z - y.z)});
+    r.size = std::max({r.size, y.q.template lpNorm<Eigen::Infinity>(), y.p.template lpNorm<Eigen::Infinity>(), std::abs(y.z)});
+  }
+  return r;
+}
+
 // ---- a kept Jacobian across steps
 //
 // On a system whose L is quadratic, `la` and `contact` (Psi at the start of the step) have rows affine in the
@@ -232,10 +263,8 @@ void check_linearization(const Sys& sys, double h) {
 // 1.08 N and N, the Foucault pendulum 2 N and 1.4 N. The bound leaves 5 updates and 9 Jacobians of slack.
 //
 // Such a system declares linear dynamics, and the stepper then takes that one update without evaluating the rows
-// again (the single-update path, checked every 256th step). Against every step through Newton (shortcuts off):
-// both accept a step within kappa eps of each row's round-off scale, so they may differ by that much a step,
-// carried along by a flow that does not amplify it (damped): over N steps no more than N kappa eps (1 + the
-// largest |q|, |p|, |z|), as for check_z_elimination.
+// again (the single-update path, checked every 256th step); against every step through Newton (shortcuts off) to
+// the bound of side_by_side.
 template <class Sys>
 void check_kept_jacobian(const Sys& sys, double h, long N) {
   static_assert(generic::has_linear_dynamics<Sys>() && !generic::is_linear<Sys>(), "the shortcut of linear dynamics");
@@ -244,19 +273,8 @@ void check_kept_jacobian(const Sys& sys, double h, long N) {
        using G = decltype(g);
        generic::Stepper<Sys, G> st(sys, h), full(sys, h);
        full.allow_shortcuts(false);
-       st.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
-       full.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
-       double worst = 0, size = 0;
-       for (long j = 0; j < N; ++j) {
-         st.step();
-         full.step();
-         const auto &x = st.state(), &y = full.state();
-         worst = std::max({worst, (x.q - y.q).template lpNorm<Eigen::Infinity>(),
-                           (x.p - y.p).template lpNorm<Eigen::Infinity>(), std::abs(x.z - y.z)});
-         size = std::max({size, y.q.template lpNorm<Eigen::Infinity>(), y.p.template lpNorm<Eigen::Infinity>(),
-                          std::abs(y.z)});
-       }
-       const double bound = double(N) * 16 * std::numeric_limits<double>::epsilon() * (1 + size);
+       const SideBySide d = side_by_side(sys, st, full, N);
+       const double worst = d.worst, bound = d.bound(N);
        INFO(Sys::name << " " << generic::scheme_name<G>() << ", h = " << h << ", " << N << " steps: "
                       << full.total_updates() << " Newton updates, " << full.jacobians() << " Jacobians; "
                       << "with the single-update path " << st.total_updates() << " and " << st.jacobians()
@@ -287,27 +305,12 @@ void check_z_elimination(const Sys& sys, double h, long steps) {
   static_assert(Solved::eliminate_z && Full::K == Solved::K + 1, "z_{j+1} is an unknown of the full step only");
   Solved a(sys, h);
   Full b(sys, h);
-  const auto q0 = sys.template initial_position<double>();
-  const auto v0 = sys.template initial_velocity<double>();
-  a.start(q0, v0);
-  b.start(q0, v0);
-  double worst = 0, size = 0;
-  long updates_a = 0, updates_b = 0;
-  for (long j = 0; j < steps; ++j) {
-    a.step();
-    b.step();
-    updates_a += a.last_updates();
-    updates_b += b.last_updates();
-    const auto &x = a.state(), &y = b.state();
-    worst = std::max({worst, (x.q - y.q).template lpNorm<Eigen::Infinity>(), (x.p - y.p).template lpNorm<Eigen::Infinity>(),
-                      std::abs(x.z - y.z)});
-    size = std::max({size, y.q.template lpNorm<Eigen::Infinity>(), y.p.template lpNorm<Eigen::Infinity>(), std::abs(y.z)});
-  }
-  const double bound = double(steps) * 16 * std::numeric_limits<double>::epsilon() * (1 + size);
-  INFO(Sys::name << ", contact-trapezoid, h = " << h << ", " << steps << " steps: max difference " << worst << " (bound "
-                 << bound << "); Newton updates a step " << double(updates_a) / steps << " with z_{j+1} solved, "
-                 << double(updates_b) / steps << " with z_{j+1} an unknown");
-  CHECK(worst <= bound);
+  const SideBySide d = side_by_side(sys, a, b, steps);
+  const double bound = d.bound(steps);
+  INFO(Sys::name << ", contact-trapezoid, h = " << h << ", " << steps << " steps: max difference " << d.worst << " (bound "
+                 << bound << "); Newton updates a step " << double(d.updates_a) / steps << " with z_{j+1} solved, "
+                 << double(d.updates_b) / steps << " with z_{j+1} an unknown");
+  CHECK(d.worst <= bound);
 }
 
 }  // namespace geomint::testing

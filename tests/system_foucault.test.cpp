@@ -3,9 +3,6 @@
 // round-off than the two-step closed forms.
 #include <catch2/catch.hpp>
 
-#include <algorithm>
-#include <limits>
-
 #include "generic_checks.hpp"
 #include "geomint/generic/schemes.hpp"
 #include "geomint/systems/foucault.hpp"
@@ -135,21 +132,12 @@ TEST_CASE("foucault: where one update from an exact Jacobian is not at round-off
   const long N = 36000;
   generic::Stepper<systems::Foucault, generic::LaLeft> st(sys, 0.1), full(sys, 0.1);
   full.allow_shortcuts(false);
-  st.start(sys.initial_position<double>(), sys.initial_velocity<double>());
-  full.start(sys.initial_position<double>(), sys.initial_velocity<double>());
-  double worst = 0, size = 0;
-  for (long j = 0; j < N; ++j) {
-    st.step();
-    full.step();
-    worst = std::max({worst, (st.state().q - full.state().q).lpNorm<Eigen::Infinity>(),
-                      (st.state().p - full.state().p).lpNorm<Eigen::Infinity>()});
-    size = std::max({size, full.state().q.lpNorm<Eigen::Infinity>(), full.state().p.lpNorm<Eigen::Infinity>()});
-  }
-  const double bound = double(N) * 16 * std::numeric_limits<double>::epsilon() * (1 + size);
-  INFO(st.shortcut_misses() << " checked steps finished by Newton; largest difference " << worst << " (bound " << bound << ")");
+  const SideBySide d = side_by_side(sys, st, full, N);
+  INFO(st.shortcut_misses() << " checked steps finished by Newton; largest difference " << d.worst << " (bound "
+                            << d.bound(N) << ")");
   CHECK(st.shortcut_misses() >= 1);
   CHECK(full.shortcut_misses() == 0);
-  CHECK(worst <= bound);
+  CHECK(d.worst <= d.bound(N));
 }
 
 TEST_CASE("foucault: contact-trapezoid with z_{j+1} solved inside the rows is the step with z_{j+1} an unknown", "[generic][newton]") {
