@@ -1,6 +1,7 @@
 // The work–precision study (work_precision.hpp): every scheme of a system over h and Boost.Odeint / GSL
 // baselines over h or tolerance, each point's error against one reference and its CPU time.
 #include <algorithm>
+#include <deque>
 #include <optional>
 #include <cmath>
 #include <cstdio>
@@ -43,6 +44,24 @@ double distance(const double* x, const double* r, int n, ErrorNorm norm) {
   return e;
 }
 
+// fine divides coarse a whole number of times (h-max by an h of the study); InputError otherwise.
+long ratio_of(double coarse, double fine) {
+  const double ratio = coarse / fine;
+  const long k = std::lround(ratio);
+  require(k >= 1 && std::abs(ratio - static_cast<double>(k)) <= 1e-9 * ratio,
+          "h = " + show(fine) + " does not divide h-max = " + show(coarse) + " (the relative error's output grid)");
+  return k;
+}
+
+}  // namespace
+
+double relative_size_floor(const SystemInfo& sys, const WorkPrecisionOptions& opt) {
+  const bool exact = opt.reference == ReferenceKind::exact || (opt.reference == ReferenceKind::automatic && sys.has_exact);
+  return exact ? 1e-280 : 1e8 * opt.reference_tol;
+}
+
+namespace {
+
 int gsl_rhs(double t, const double y[], double f[], void* params) {
   (*static_cast<const Rhs*>(params))(t, y, f);
   return GSL_SUCCESS;
@@ -66,6 +85,54 @@ struct Combination {
     if (ref_failure) throw *ref_failure;
   }
 
+  // The relative error (WorkPrecisionOptions::relative_window): A_k, the largest |q_ref| over the window that ends
+  // at t_k = k h_out, on the output grid; empty without the option.
+  double h_out;               // the largest h
+  std::vector<double> size;  // filled by size_reference
+  double size_floor = 0;     // below it t_k is not counted
+  bool relative() const { return opt.relative_window > 0; }
+  std::size_t n_errors() const { return relative() ? 2 : 1; }
+  void size_reference() {
+    if (!relative() || ref_failure) return;
+    size_floor = relative_size_floor(sys, opt);
+    const long N_out = step_count(h_out, T), stride = ref.index(1, h_out);
+    const long w = static_cast<long>(std::floor(opt.relative_window / ref.h + 1e-9));
+    const std::vector<double> zero(static_cast<std::size_t>(n), 0.0);
+    std::vector<double> r(static_cast<std::size_t>(ref.N + 1));
+    for (std::size_t i = 0; i < r.size(); ++i) r[i] = distance(&ref.q[i * static_cast<std::size_t>(n)], zero.data(), n, opt.norm);
+    size.assign(static_cast<std::size_t>(N_out + 1), 0);
+    std::deque<long> window;  // indices of the window's decreasing maxima: a sliding maximum in O(N)
+    for (long i = 0, k = 0; k <= N_out; ++i) {
+      while (!window.empty() && r[static_cast<std::size_t>(window.back())] <= r[static_cast<std::size_t>(i)]) window.pop_back();
+      window.push_back(i);
+      if (i != k * stride) continue;
+      while (window.front() < i - w) window.pop_front();
+      size[static_cast<std::size_t>(k++)] = r[static_cast<std::size_t>(window.front())];
+    }
+  }
+  // The relative error along one run, fed the positions at output k.
+  struct Relative {
+    const Combination& c;
+    double worst = 0;
+    long counted = 0;
+    void add(long k, const double* q) {
+      const double a = c.size[static_cast<std::size_t>(k)];
+      if (!(a >= c.size_floor)) return;
+      const long i = c.ref.index(k, c.h_out);
+      const double d = distance(q, &c.ref.q[static_cast<std::size_t>(i * c.n)], c.n, c.opt.norm) / a;
+      if (!std::isfinite(d))
+        throw NumericalFailure(k, "relative error", "q is not finite at t = " + show(static_cast<double>(k) * c.h_out));
+      worst = std::max(worst, d);
+      ++counted;
+    }
+    double value() const { return counted ? worst : missing_value; }
+  };
+  // {the max error} or {the max error, the relative error}
+  std::vector<double> errors(double err, const Relative* rel) const {
+    if (!relative()) return {err};
+    return {err, rel->value()};
+  }
+
   std::string where(const std::string& method, const char* knob, double value) const {
     std::string s = sys.name + " " + method;
     for (const auto& [k, v] : pv) s += " " + k + "=" + show(v);
@@ -77,10 +144,16 @@ struct Combination {
     WorkPoint p = work_point(name, "geometric", "h", h, group);
     p.steps = N;  // known before the run: it stays in the table where the run fails
     return measure_point_timed(
-        p, 1,
+        p, n_errors(),
         [&] {
           need_reference();
-          return Measured{{sys.measure_run(pv, name, h, opt.path, ref, opt.norm).front()}, N};
+          const double err = sys.measure_run(pv, name, h, opt.path, ref, opt.norm).front();
+          if (!relative()) return Measured{{err}, N};
+          const long every = ratio_of(h_out, h);
+          const Run r = sys.run(pv, name, h, opt.path, every);  // q at t_k = k h_out (j = k every)
+          Relative rel{*this};
+          for (std::size_t k = 0; k < r.j.size(); ++k) rel.add(r.j[k] / every, &r.q[k * static_cast<std::size_t>(n)]);
+          return Measured{errors(err, &rel), N};
         },
         [&] { return sys.time_run(pv, name, h, opt.path, opt.reps); }, opt.reps, where(name, "h", h));
   }
@@ -89,27 +162,31 @@ struct Combination {
     const long N = step_count(h, T);
     const long stride = ref_failure ? 1 : ref.index(1, h);
     auto rhs = [&](const State& x, State& dx, double t) { f(t, x.data(), dx.data()); };
-    auto run = [&](double* err) {
+    const long every = relative() ? ratio_of(h_out, h) : 1;
+    auto run = [&](double* err, Relative* rel) {
       odeint::runge_kutta4<State> st;
       State x = x0;
+      if (rel) rel->add(0, x.data());
       for (long j = 0; j < N; ++j) {
         st.do_step(rhs, x, static_cast<double>(j) * h, h);
         if (err)
           *err = std::max(*err, distance(x.data(), &ref.q[static_cast<std::size_t>((j + 1) * stride * n)], n, opt.norm));
+        if (rel && (j + 1) % every == 0) rel->add((j + 1) / every, x.data());
       }
       do_not_optimize(x[0]);
     };
     WorkPoint p = work_point("odeint-rk4", "rk", "h", h, group);
     p.steps = N;
     return measure_point_timed(
-        p, 1,
+        p, n_errors(),
         [&] {
           need_reference();
           double err = 0;
-          run(&err);
-          return Measured{{err}, N};
+          Relative rel{*this};
+          run(&err, relative() ? &rel : nullptr);
+          return Measured{errors(err, &rel), N};
         },
-        [&] { return time_per_call([&] { run(nullptr); }, opt.reps); }, opt.reps, where("odeint-rk4", "h", h));
+        [&] { return time_per_call([&] { run(nullptr, nullptr); }, opt.reps); }, opt.reps, where("odeint-rk4", "h", h));
   }
 
   // An adaptive method's error at the steps it chose, against the closed form there: no output grid caps its
@@ -137,12 +214,11 @@ struct Combination {
   // An adaptive method's error by dense output on the grid of the largest h, against the reference there.
   template <class MakeStepper>
   WorkPoint at_output(const std::string& name, double tol, MakeStepper&& make) const {
-    const double h_out = *std::max_element(opt.hs.begin(), opt.hs.end());
     const long N_out = step_count(h_out, T), stride = ref_failure ? 1 : ref.index(1, h_out);
     std::vector<double> times(static_cast<std::size_t>(N_out + 1));
     for (long j = 0; j <= N_out; ++j) times[static_cast<std::size_t>(j)] = static_cast<double>(j) * h_out;
     auto rhs = [&](const State& x, State& dx, double t) { f(t, x.data(), dx.data()); };
-    auto dense = [&](double* err, bool measured) {
+    auto dense = [&](double* err, Relative* rel, bool measured) {
       State x = x0;
       std::size_t k = 0, kept = 0;
       try {
@@ -150,6 +226,7 @@ struct Combination {
                                     [&](const State& y, double) {
                                       if (err)
                                         *err = std::max(*err, distance(y.data(), &ref.q[kept * static_cast<std::size_t>(stride * n)], n, opt.norm));
+                                      if (rel) rel->add(static_cast<long>(kept), y.data());
                                       ++kept;
                                     },
                                     odeint::max_step_checker(odeint_max_steps_between_outputs));
@@ -162,14 +239,16 @@ struct Combination {
       return static_cast<long>(k);
     };
     return measure_point_timed(
-        work_point(name, "adaptive", "tol", tol, group), 1,
+        work_point(name, "adaptive", "tol", tol, group), n_errors(),
         [&] {
           need_reference();
           double err = 0;
-          const long steps = dense(&err, true);
-          return Measured{{err}, steps};
+          Relative rel{*this};
+          const long steps = dense(&err, relative() ? &rel : nullptr, true);
+          if (std::isnan(err)) rel.counted = 0;  // a run that stopped early is missing in both
+          return Measured{errors(err, &rel), steps};
         },
-        [&] { return time_per_call([&] { dense(nullptr, false); }, opt.reps); }, opt.reps, where(name, "tol", tol));
+        [&] { return time_per_call([&] { dense(nullptr, nullptr, false); }, opt.reps); }, opt.reps, where(name, "tol", tol));
   }
 
   WorkPoint baseline(const std::string& name, double tol) const {
@@ -234,6 +313,9 @@ void check_work_precision(const SystemInfo& sys, const std::vector<ParamValues>&
     over_tol = over_tol || adaptive(b);
   }
   if (over_tol) require(!opt.tols.empty(), "the adaptive baselines need tolerances (--tol)");
+  require(std::isfinite(opt.relative_window) && opt.relative_window >= 0, "the relative error's window must be >= 0");
+  require(opt.relative_window == 0 || !opt.at_steps,
+          "the relative error is taken on the output grid: it cannot be asked with the error at the adaptive steps");
   for (double tol : opt.tols) check_tolerance(tol, "tol");
   if (opt.at_steps && over_tol)
     require(sys.has_exact, "--adaptive-error steps needs a closed-form solution, which system '" + sys.name +
@@ -263,7 +345,7 @@ WorkPrecisionStudy work_precision_study(const SystemInfo& sys, const std::vector
     const double h_ref = reference_step(sys, opt.hs);
     Combination k{sys, pv, opt, static_cast<double>(c), T, sys.dof,
                   opt.hand_written ? sys.ode_rhs(pv) : sys.ode(pv), sys.ode_initial_state(pv, opt.hand_written),
-                  {}, {}};
+                  {}, {}, *std::max_element(opt.hs.begin(), opt.hs.end()), {}};
     try {
       k.ref = sys.reference(pv, h_ref, step_count(h_ref, T), opt.reference, opt.reference_tol);
       study.reference = k.ref.kind;
@@ -271,6 +353,7 @@ WorkPrecisionStudy work_precision_study(const SystemInfo& sys, const std::vector
       if (combos.size() == 1) throw;  // a study of one combination has nothing left to show
       k.ref_failure = f;
     }
+    k.size_reference();
     for (const auto& name : opt.schemes)
       for (double h : opt.hs) study.points.push_back(k.scheme(name, h));
     for (const auto& b : opt.baselines)
