@@ -37,10 +37,11 @@ integrate --system knife-edge --scheme contact-trapezoid
 ensemble --system knife-edge --scheme la --runs 2000
 work_precision --system pendulum
 stability --system coupled-oscillators --n 60
-long_horizon_oscillator
-long_horizon_foucault
-long_horizon_forced
-long_horizon_kepler
+long_horizon --system oscillator
+long_horizon --system foucault
+long_horizon --system forced-oscillator
+long_horizon --system kepler
+long_horizon --system pendulum --alpha 0.01
 kepler_anchor
 endef
 export FIGURE_COMMANDS

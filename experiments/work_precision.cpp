@@ -44,15 +44,10 @@ int main(int argc, char** argv) {
         "odeint-rk4 (over h), odeint-dopri5, odeint-bulirsch-stoer, gsl-rk8pd (over tol)")(
         "tol", po::value(&opt.tols)->multitoken()->default_value(opt.tols, "1e-3 ... 1e-12"),
         "tolerances of the adaptive baselines (rel = abs)")(
-        "equations", po::value(&equations)->default_value(equations),
-        "what the baselines integrate: ad (the acceleration derived from L, F, Phi) or rhs (the system's own)")(
         "adaptive-error", po::value(&adaptive_error)->default_value(adaptive_error),
         "output (dense output on the grid of h-max, against the reference) or steps (at the steps each chose, "
-        "against the closed form)")(
-        "path", po::value(&path_name)->default_value(path_name), "fast (closed forms where they exist) or generic")(
-        "norm", po::value(&norm_name)->default_value(norm_name),
-        "max (the largest component of q - q_ref) or 2 (its Euclidean length)")(
-        "reps", po::value(&opt.reps)->default_value(opt.reps), "timed repetitions");
+        "against the closed form)");
+    add_baseline_study_options(cli, equations, path_name, norm_name, opt.reps);
     if (!cli.parse(argc, argv)) return 0;
     const SystemInfo& sys = sysopt.system();
     const auto combos = sysopt.combinations();

@@ -34,8 +34,8 @@ def programs(bin_dir):
     return names
 
 
-def help_text(bin_dir, name):
-    done = subprocess.run([os.path.join(bin_dir, name), "--help"], capture_output=True, text=True, timeout=60)
+def help_text(bin_dir, name, extra=()):
+    done = subprocess.run([os.path.join(bin_dir, name), "--help", *extra], capture_output=True, text=True, timeout=60)
     if done.returncode != 0:
         raise RuntimeError(f"{name} --help exited {done.returncode}: {done.stderr.strip()}")
     return re.sub(r"(--threads arg \(=)\d+(\))", r"\1cores\2", done.stdout).rstrip() + "\n"
@@ -44,7 +44,18 @@ def help_text(bin_dir, name):
 def render(bin_dir):
     parts = [HEADER]
     for name in programs(bin_dir):
-        parts.append(f"\n## {name}\n\n```\n{help_text(bin_dir, name)}```\n")
+        text = help_text(bin_dir, name)
+        parts.append(f"\n## {name}\n\n```\n{text}```\n")
+        # a program that runs a study of its own per system (long_horizon) names them in its --system option:
+        # each one's --help after the default's
+        flat = re.sub(r"\s+", " ", text)  # the help wraps its lines
+        m = re.search(r"studies of their own: ([a-z0-9, -]+?); any other system \(e\.g\. ([a-z0-9-]+)\)", flat)
+        if m:
+            default = re.search(r"--system arg \(=([a-z0-9-]+)\)", text).group(1)
+            for system in [s.strip() for s in m.group(1).split(",")] + [m.group(2)]:
+                if system != default:
+                    more = help_text(bin_dir, name, ["--system", system])
+                    parts.append(f"\n### {name} --system {system}\n\n```\n{more}```\n")
     return "".join(parts)
 
 

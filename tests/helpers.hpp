@@ -32,18 +32,22 @@ inline std::string read_bytes(const std::filesystem::path& p) {
 
 struct ProgramResult {
   int exit_code;
-  std::string err;
+  std::string err, out;
 };
 
-// Runs GEOMINT_BIN_DIR/program with args (a shell word list), stdout discarded.
+// Runs GEOMINT_BIN_DIR/program with args (a shell word list), its stdout and stderr kept.
 inline ProgramResult run_program(const std::string& program, const std::string& args) {
-  const auto errfile = fresh_dir("stderr") / "err.txt";
-  const std::string cmd = std::string(GEOMINT_BIN_DIR) + "/" + program + " " + args + " > /dev/null 2> " + errfile.string();
+  const auto dir = fresh_dir("stderr");
+  const std::string cmd = std::string(GEOMINT_BIN_DIR) + "/" + program + " " + args + " > " + (dir / "out.txt").string() +
+                          " 2> " + (dir / "err.txt").string();
   const int status = std::system(cmd.c_str());
-  std::ifstream in(errfile);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+  auto read = [](const std::filesystem::path& f) {
+    std::ifstream in(f);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read(dir / "err.txt"), read(dir / "out.txt")};
 }
 
 inline std::size_t count_files(const std::filesystem::path& dir) {

@@ -1,4 +1,4 @@
-// long_horizon_kepler: what its numbers must be on a short horizon (20 orbits), and its bad-input contract.
+// long_horizon --system kepler: what its numbers must be on a short horizon (20 orbits), and its bad-input contract.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -10,34 +10,34 @@
 
 using namespace geomint::testing;
 
-TEST_CASE("long_horizon_kepler rejects bad input with one line, exit 2, and writes nothing", "[programs][long_horizon]") {
-  check_rejected("long_horizon_kepler", "--e 0.05", "e must be in [0.1, 0.9]");
-  check_rejected("long_horizon_kepler", "--k 12", "multiple of --outputs");
-  check_rejected("long_horizon_kepler", "--orbits 1.5", "orbits must be whole numbers");
-  check_rejected("long_horizon_kepler", "--reference-tol 1e-20", "reference-tol must be in");
-  check_rejected("long_horizon_kepler", "--tol 0", "tol must be in");
-  check_rejected("long_horizon_kepler", "--schemes nope", "nope");
-  check_rejected("long_horizon_kepler", "--alpha=-1", "alpha");
-  check_rejected("long_horizon_kepler", "--orbits 1000000 --k 100000 --outputs 8", "steps");
+TEST_CASE("long_horizon --system kepler rejects bad input with one line, exit 2, and writes nothing", "[programs][long_horizon]") {
+  check_rejected("long_horizon", "--system kepler --e 0.05", "e must be in [0.1, 0.9]");
+  check_rejected("long_horizon", "--system kepler --k 12", "multiple of --outputs");
+  check_rejected("long_horizon", "--system kepler --orbits 1.5", "orbits must be whole numbers");
+  check_rejected("long_horizon", "--system kepler --reference-tol 1e-20", "reference-tol must be in");
+  check_rejected("long_horizon", "--system kepler --tol 0", "tol must be in");
+  check_rejected("long_horizon", "--system kepler --schemes nope", "nope");
+  check_rejected("long_horizon", "--system kepler --alpha=-1", "alpha");
+  check_rejected("long_horizon", "--system kepler --orbits 1000000 --k 100000 --outputs 8", "steps");
 }
 
-TEST_CASE("long_horizon_kepler: the trapezoid keeps the momentum law to round-off, the compositions show their order, "
+TEST_CASE("long_horizon --system kepler: the trapezoid keeps the momentum law to round-off, the compositions show their order, "
           "the reference is tight, the counts are the methods' own, and the errors are the same bits twice",
           "[programs][long_horizon][kepler]") {
   const auto a = fresh_dir("lhk-a"), b = fresh_dir("lhk-b");
   for (const auto& d : {a, b}) {
-    const auto r = run_program("long_horizon_kepler",
-                               "--orbits 20 --k 64 128 256 --tol 1e-8 1e-10 --reps 1 --schemes la-trapezoid "
+    const auto r = run_program("long_horizon",
+                               "--system kepler --orbits 20 --k 64 128 256 --tol 1e-8 1e-10 --reps 1 --schemes la-trapezoid "
                                "yoshida4:la-trapezoid kahanli8:la-trapezoid --out " + d.string());
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
   }
-  const std::string sa = read_bytes(a / "long_horizon_kepler.tsv");
+  const std::string sa = read_bytes(a / "kepler_long_horizon.tsv");
   CHECK(!sa.empty());
-  CHECK(sa == read_bytes(b / "long_horizon_kepler.tsv"));
+  CHECK(sa == read_bytes(b / "kepler_long_horizon.tsv"));
   CHECK(sa.find("# git: ") != std::string::npos);
 
-  const auto t = geomint::plots::read_tsv(a / "long_horizon_kepler.tsv");
+  const auto t = geomint::plots::read_tsv(a / "kepler_long_horizon.tsv");
   auto column = [&](const std::string& method, const std::string& col) {
     return t.numbers(col, [&](std::size_t r) { return t.text(r, "method") == method; });
   };
@@ -77,7 +77,7 @@ TEST_CASE("long_horizon_kepler: the trapezoid keeps the momentum law to round-of
   for (std::size_t i = 0; i < rk4_evals.size(); ++i) CHECK(rk4_evals[i] == 4 * rk4_steps[i]);
   const auto y4_evals = column("yoshida4:la-trapezoid", "evals"), y4_steps = column("yoshida4:la-trapezoid", "steps");
   for (std::size_t i = 0; i < y4_evals.size(); ++i) CHECK(y4_evals[i] >= 6 * y4_steps[i]);
-  for (const char* f : {"long_horizon_kepler_timings.tsv", "long_horizon_kepler_summary.tsv",
-                        "long_horizon_kepler_summary_evals.tsv", "long_horizon_kepler.png"})
+  for (const char* f : {"kepler_long_horizon_timings.tsv", "kepler_long_horizon_summary.tsv",
+                        "kepler_long_horizon_summary_evals.tsv", "kepler_long_horizon.png"})
     CHECK(std::filesystem::exists(a / f));
 }

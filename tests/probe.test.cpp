@@ -566,9 +566,9 @@ TEST_CASE("probe: a stiff reference and an overflowing closed form are numerical
   CHECK(!fs::exists(base / "a"));
   // the adaptive baselines of a long-horizon study (work_precision's share the rule): each stops after its step
   // limit (1e6 steps, plus 1e5 per unit time) and is a missing point, named on stderr (3 s here; before, hours)
-  const auto lh = spawn("long_horizon_forced", {"--periods", "4", "--m", "8", "--tol", "1e-5", "--reps", "1", "--alpha",
-                                                "1e15", "--out", (base / "lh").string()}, base);
-  INFO("long_horizon_forced --alpha 1e15 -> exit " << lh.exit_code << ": " << lh.err);
+  const auto lh = spawn("long_horizon", {"--system", "forced-oscillator", "--periods", "4", "--m", "8", "--tol", "1e-5", "--reps",
+                                         "1", "--alpha", "1e15", "--out", (base / "lh").string()}, base);
+  INFO("long_horizon --system forced-oscillator --alpha 1e15 -> exit " << lh.exit_code << ": " << lh.err);
   CHECK(lh.exit_code == 0);
   CHECK(lh.err.find("adaptive steps by t = ") != std::string::npos);
   CHECK(lh.err.find("too stiff for an explicit integrator") != std::string::npos);
@@ -615,7 +615,8 @@ TEST_CASE("probe: a nan or inf computed from extreme inputs stops the run instea
   }
   // the forced oscillator's closed-form amplitude, which every error divides by, overflows: refused as an input
   // before any run (it gave a table of nan relative errors)
-  check_refused("long_horizon_forced", {"--periods", "4", "--beta", "1e308", "--alpha", "1e-3"}, "steady-state amplitude");
+  check_refused("long_horizon", {"--system", "forced-oscillator", "--periods", "4", "--beta", "1e308", "--alpha", "1e-3"},
+                "steady-state amplitude");
 }
 
 TEST_CASE("probe: a refusal that comes after the output folder was made leaves no folder behind", "[probe]") {

@@ -40,9 +40,7 @@ BASE = {
     "fig2_foucault": ["--T", "10", "--h", "0.1"],
     "integrate": [],
     "kepler_anchor": ["--settings", "anchor-1", "--reps", "0"],
-    "long_horizon_forced": ["--periods", "10", "--m", "8", "--tol", "1e-5", "--reps", "1"],
-    "long_horizon_foucault": ["--T", "100", "--h", "0.1", "--tol", "1e-6", "--reps", "1"],
-    "long_horizon_oscillator": ["--periods", "15", "--m", "8", "--tol", "1e-5", "--reps", "1"],
+    "long_horizon": ["--system", "oscillator", "--periods", "15", "--m", "8", "--tol", "1e-5", "--reps", "1"],
     "modified_agreement": ["--systems", "oscillator", "--orders", "0", "1"],
     "modified_cost": ["--seconds", "0.01", "--reps", "1", "--orders", "0", "1", "--systems", "pendulum"],
     "modified_equation": ["--order", "2"],
@@ -329,11 +327,12 @@ def name_lists(prog, opts):
                         ("theta0=-1", False), ("theta0=1e308", False), ("T=1", False), ("theta0=1e-3 theta0=1e-3", False),
                         ("=1", True), ("theta0==1", True)]:
             cases.append((["--perturb"] + (v.split(" ") if v else [""]), nons))
-    if prog == "long_horizon_forced":
+    if prog == "long_horizon":  # the forced oscillator's study: --omega is an expression
+        forced = ["--system", "forced-oscillator", "--periods", "10", "--m", "8", "--tol", "1e-5", "--reps", "1"]
         for v, nons in [("pi/0", True), ("pi*", True), ("2*pi/3", False), ("pi/3;touch " + CANARY, True),
                         ("$(touch %s)" % CANARY, True), ("sqrt(-1)", True), ("1/0", True), ("pi/3 pi/3", True),
                         ("PI/3", True), ("`touch %s`" % CANARY, True)]:
-            cases.append((["--omega"] + v.split(" "), nons))
+            cases.append((forced + ["--omega"] + v.split(" "), nons))
     if prog == "modified_equation":
         for v, nons in [("0.5 0.5", True), ("", True), ("nan", True)]:
             cases.append((["--q"] + (v.split(" ") if v else [""]), nons))
@@ -408,9 +407,10 @@ SPECIAL = [
     ("bench_symbolic", ["--max-order", "6", "--budget", "1e308"]),
     ("fig2_foucault", ["--sample-dt", "1e-300"]),
     ("fig2_foucault", ["--T", "1e9", "--no-budget"]),
-    ("long_horizon_oscillator", ["--periods", "1e12"]),
-    ("long_horizon_forced", ["--periods", "1e12", "--no-budget"]),
-    ("long_horizon_foucault", ["--T", "1e12", "--no-budget"]),
+    ("long_horizon", ["--periods", "1e12"]),
+    ("long_horizon", ["--system", "forced-oscillator", "--periods", "1e12", "--no-budget"]),
+    ("long_horizon", ["--system", "foucault", "--T", "1e12", "--no-budget"]),
+    ("long_horizon", ["--system", "pendulum", "--horizons", "1e6", "--no-budget"]),
     ("kepler_anchor", ["--tau", "1e-12"]),
     ("kepler_anchor", ["--T", "1e12", "--no-budget"]),
     ("work_precision", ["--h-min", "1e-300", "--no-budget"]),

@@ -23,7 +23,6 @@ std::string composition_caption(const SystemInfo& sys) {
 }
 }  // namespace
 
-namespace {
 // --system X or --system=X in argv (a repeat is refused by Cli::parse later).
 std::string find_system_arg(int argc, char** argv, const std::string& fallback) {
   std::string name = fallback;
@@ -44,6 +43,7 @@ std::string find_system_file_arg(int argc, char** argv) {
   return path;
 }
 
+namespace {
 bool has_system_arg(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--system") == 0 || std::strncmp(argv[i], "--system=", 9) == 0) return true;
@@ -231,6 +231,15 @@ std::vector<std::pair<std::string, std::string>> SystemsOptions::header() const 
       if (k == params_[i]) out.emplace_back(k, format_number(v) + " (preset)");
   }
   return out;
+}
+
+void add_baseline_study_options(Cli& cli, std::string& equations, std::string& path, std::string& norm, int& reps) {
+  cli.options.add_options()(
+      "equations", po::value(&equations)->default_value(equations),
+      "what the baselines integrate: ad (the acceleration derived from L, F, Phi) or rhs (the system's own)")(
+      "path", po::value(&path)->default_value(path), "fast (closed forms where they exist) or generic")(
+      "norm", po::value(&norm)->default_value(norm), "max (the largest component of q - q_ref) or 2 (its Euclidean length)")(
+      "reps", po::value(&reps)->default_value(reps), "timed repetitions");
 }
 
 double param_value(const ParamValues& pv, const SystemInfo& sys, const std::string& name) {

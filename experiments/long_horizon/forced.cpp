@@ -8,14 +8,14 @@
 // Methods: every scheme the registry builds for the system (fast paths) and compositions of order 4, 6 and 8 of
 // la-trapezoid (generic steps; --schemes names others), and Odeint rk4, over steps per forcing period; Odeint
 // dopri5, Bulirsch–Stoer and GSL rk8pd over tolerance (abs = rel) on the equation written by hand.
-//   long_horizon_forced [--periods 100 300] [--m 8 16 32 64 128] [--tol 1e-5 1e-7 1e-9 1e-11] [--reps 3]
+//   long_horizon --system forced-oscillator [--periods 100 300] [--m 8 16 32 64 128] [--tol 1e-5 1e-7 1e-9 1e-11] [--reps 3]
 //                       [--schemes ...] [--alpha 0.1] [--beta 0.3] [--omega 1.0471975511965976] [--out out]
 // The study in docs/speed-accuracy.md:
-//   long_horizon_forced --periods 100 1000 10000 --m 8 16 32 64 128 256 512 --tol 1e-5 1e-7 1e-9 1e-11
+//   long_horizon --system forced-oscillator --periods 100 1000 10000 --m 8 16 32 64 128 256 512 --tol 1e-5 1e-7 1e-9 1e-11
 // With the default omega = pi/3 the forcing period is 6, T = 6 periods and h = 6/m divide exactly; another
 // omega needs 2 pi/omega times m to give an h that divides T.
-// Writes out/long_horizon_forced.tsv (errors: same bits for the same command), _timings.tsv, _summary.tsv and
-// the figure out/long_horizon_forced.{png,pdf}.
+// Writes out/forced-oscillator_long_horizon.tsv (errors: same bits for the same command), _timings.tsv, _summary.tsv and
+// the figure out/forced-oscillator_long_horizon.{png,pdf}.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -35,7 +35,8 @@
 #include "geomint/plots/figure.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/timing.hpp"
-#include "long_horizon_table.hpp"
+#include "long_horizon/table.hpp"
+#include "long_horizon/studies.hpp"
 
 using namespace geomint;
 namespace odeint = boost::numeric::odeint;
@@ -160,13 +161,14 @@ struct Study {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  return guarded_main("long_horizon_forced", [&] {
+int long_horizon_forced(int argc, char** argv) {
+  return [&] {
     std::vector<double> periods{100, 300}, ms{8, 16, 32, 64, 128}, tols{1e-5, 1e-7, 1e-9, 1e-11};
     double alpha = 0.1, beta = 0.3, omega = kPi / 3;
     int reps = 3;
     std::vector<std::string> schemes;
-    Cli cli("long_horizon_forced", "long-horizon steady-state amplitude and phase error against CPU time: forced oscillator");
+    Cli cli("long_horizon", "long-horizon steady-state amplitude and phase error against CPU time: forced oscillator");
+    add_study_system_option(cli, "forced-oscillator");
     cli.options.add_options()("periods", po::value(&periods)->multitoken(), "horizons in forcing periods (default 100 300)")(
         "m", po::value(&ms)->multitoken(), "steps per forcing period of the fixed-step methods (default 8 .. 128)")(
         "tol", po::value(&tols)->multitoken(), "tolerances (abs = rel) of the adaptive methods (default 1e-5 .. 1e-11)")(
@@ -212,7 +214,7 @@ int main(int argc, char** argv) {
     std::vector<WorkPoint> pts;
     const Study study{C, delta, reps};
     for (double P : periods) {
-      std::fprintf(stderr, "long_horizon_forced: %g periods ...\n", P);
+      std::fprintf(stderr, "long_horizon: %g periods ...\n", P);
       const ParamValues pv = values_for(P);
       const double T = P * Tf;
       // The equation of the system's header, by hand (the AD-derived sys.ode(pv) costs ~10x more per evaluation and
@@ -276,9 +278,9 @@ int main(int argc, char** argv) {
                         {"steady state", "C = " + format_number(C) + ", delta = " + format_number(delta)},
                         {"measures", "least squares q = A sin(omega t) + B cos(omega t) + c over t >= T/2; amp_err = |hypot(A,B) - C|/C; "
                                      "phase_err = |atan2(-B, A) - delta| rad"}};
-    TsvWriter data(dir / "long_horizon_forced.tsv", "long_horizon_forced", params,
+    TsvWriter data(dir / "forced-oscillator_long_horizon.tsv", "long_horizon", params,
                    {"method", "family", "alpha", "periods", "knob", "value", "steps", "amp_err", "phase_err"});
-    TsvWriter tim(dir / "long_horizon_forced_timings.tsv", "long_horizon_forced", params,
+    TsvWriter tim(dir / "forced-oscillator_long_horizon_timings.tsv", "long_horizon", params,
                   {"method", "family", "alpha", "periods", "knob", "value", "seconds_median", "reps"});
     for (auto& p : pts) {
       p.group = alpha;  // one damping: the summary's group
@@ -290,11 +292,11 @@ int main(int argc, char** argv) {
 
     const std::vector<long_horizon::Measure> measures{{"amp_err", "steady-state amplitude error |C_fit - C|/C", 1e-3},
                                                       {"phase_err", "steady-state phase error (rad)", 1e-3}};
-    long_horizon::summarise(pts, measures, "alpha", "periods", dir / "long_horizon_forced_summary.tsv",
-                            "long_horizon_forced", params);
-    long_horizon::draw_saved(dir, "long_horizon_forced", "alpha", "periods", measures, format_number(periods.back()),
+    long_horizon::summarise(pts, measures, "alpha", "periods", dir / "forced-oscillator_long_horizon_summary.tsv",
+                            "long_horizon", params);
+    long_horizon::draw_saved(dir, "forced-oscillator_long_horizon", "alpha", "periods", measures, format_number(periods.back()),
                              "Forced oscillator over " + format_number(periods.back()) +
                                  " forcing periods: steady-state error against CPU time (median)");
     return 0;
-  });
+  }();
 }

@@ -15,13 +15,13 @@
 // Lagrange–d'Alembert multiplier ODE (foucault.hpp) Odeint dopri5 and Bulirsch–Stoer and GSL rk8pd over tolerance
 // (rel = tol, abs = 1e-8 tol in m and m/s, so the control stays relative while the amplitude decays by e^-18 in
 // 10 h). A run that fails is a missing value with a message.
-//   long_horizon_foucault [--alpha 1e-3] [--T 3600] [--h 0.1 0.05 0.025] [--tol 1e-6 1e-8 1e-10] [--reps 3] [--out out]
+//   long_horizon --system foucault [--alpha 1e-3] [--T 3600] [--h 0.1 0.05 0.025] [--tol 1e-6 1e-8 1e-10] [--reps 3] [--out out]
 //                         [any parameter of the scene: --m --l --g --beta --Omega --x0 --y0 --vx0 --vy0]
 // The study in docs/speed-accuracy.md (the hour and 10 hours; a few minutes):
-//   long_horizon_foucault --T 3600 36000 --h 0.2 0.1 0.05 0.025 0.0125 --tol 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10 1e-11
-// Writes out/long_horizon_foucault.tsv (errors: same bits for the same command), _timings.tsv, _summary.tsv,
-// out/long_horizon_foucault_drift.tsv (the constraint residual at the turning points of one run per method) and
-// the figure out/long_horizon_foucault.{png,pdf}.
+//   long_horizon --system foucault --T 3600 36000 --h 0.2 0.1 0.05 0.025 0.0125 --tol 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10 1e-11
+// Writes out/foucault_long_horizon.tsv (errors: same bits for the same command), _timings.tsv, _summary.tsv,
+// out/foucault_long_horizon_drift.tsv (the constraint residual at the turning points of one run per method) and
+// the figure out/foucault_long_horizon.{png,pdf}.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -44,7 +44,8 @@
 #include "geomint/plots/figure.hpp"
 #include "geomint/timing.hpp"
 #include "geomint/work_precision.hpp"
-#include "long_horizon_table.hpp"
+#include "long_horizon/table.hpp"
+#include "long_horizon/studies.hpp"
 
 using namespace geomint;
 namespace odeint = boost::numeric::odeint;
@@ -225,12 +226,13 @@ Point measure_point(const std::string& method, const std::string& family, const 
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  return guarded_main("long_horizon_foucault", [&] {
+int long_horizon_foucault(int argc, char** argv) {
+  return [&] {
     systems::Foucault sc;  // the scene; the rotation runs use foucault-rotation with the same parameters
     std::vector<double> horizons{3600}, hs{0.1, 0.05, 0.025}, tols{1e-6, 1e-8, 1e-10};
     int reps = 3;
-    Cli cli("long_horizon_foucault", "long-horizon structural error against CPU time: damped Foucault pendulum");
+    Cli cli("long_horizon", "long-horizon structural error against CPU time: damped Foucault pendulum");
+    add_study_system_option(cli, "foucault");
     cli.options.add_options()("T", po::value(&horizons)->multitoken(), "horizons in s (default 3600, the paper's hour)")(
         "h", po::value(&hs)->multitoken(), "steps of the fixed-step methods (each must divide every T; default 0.1 0.05 0.025)")(
         "tol", po::value(&tols)->multitoken(), "relative tolerances of the adaptive methods (default 1e-6 1e-8 1e-10)")(
@@ -256,7 +258,7 @@ int main(int argc, char** argv) {
 
     std::vector<Point> pts;
     for (double T : horizons) {
-      std::fprintf(stderr, "long_horizon_foucault: T = %g s ...\n", T);
+      std::fprintf(stderr, "long_horizon: T = %g s ...\n", T);
       for (double h : hs) {
         const long N = step_count(h, T);
         // (15) and (18) under the paper's names, the remedy's rows first, then the paper's
@@ -286,19 +288,20 @@ int main(int argc, char** argv) {
     }
 
     Params params = sc.header_params();
+    params.insert(params.begin(), {"system", "foucault (methods *-paper) beside foucault-rotation (methods *-rotation), one scene"});
     params.insert(params.end(), {{"T", format_list(horizons)}, {"h", format_list(hs)}, {"tol", format_list(tols) + " (rel; abs = 1e-8 tol)"},
                                  {"start", "legendre"}, {"reps", std::to_string(reps)},
                                  {"measures", "precession_err = |rate + s|/s (turning points); decay_err = |alpha_fit - alpha|/alpha "
                                               "(log Q_r at turning points); constraint_err = max |Phi(q,v)|/(|q||v| + s|q|^2); "
                                               "discrete_err = the schemes' discrete constraint residual (round-off units); own_constraint_err = discrete_err (schemes) or constraint_err (ODE methods)"}});
-    TsvWriter data(dir / "long_horizon_foucault.tsv", "long_horizon_foucault", params,
+    TsvWriter data(dir / "foucault_long_horizon.tsv", "long_horizon", params,
                    {"method", "family", "alpha", "T", "knob", "value", "steps", "turns", "precession_err", "decay_err",
                     "constraint_err", "discrete_err", "own_constraint_err"});
-    TsvWriter tim(dir / "long_horizon_foucault_timings.tsv", "long_horizon_foucault", params,
+    TsvWriter tim(dir / "foucault_long_horizon_timings.tsv", "long_horizon", params,
                   {"method", "family", "alpha", "T", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
     // Drift of (13) over time: the finest run of each fixed-step method and the tightest of each adaptive one,
     // at the longest horizon.
-    TsvWriter drift(dir / "long_horizon_foucault_drift.tsv", "long_horizon_foucault", params, {"method", "knob", "value", "t", "constraint_err"});
+    TsvWriter drift(dir / "foucault_long_horizon_drift.tsv", "long_horizon", params, {"method", "knob", "value", "t", "constraint_err"});
     std::vector<WorkPoint> work;
     for (auto& pt : pts) {
       const WorkPoint& p = pt.w;
@@ -322,14 +325,14 @@ int main(int argc, char** argv) {
         {"constraint_err", "max |Phi(q,v)| / (|q||v| + s|q|^2), (13)", 1e-8},
         {"own_constraint_err", "residual of the constraint each method imposes", 1e-12}};
     for (auto& p : work) p.errors.erase(p.errors.begin() + 3);  // in the measures' order
-    long_horizon::summarise(work, measures, "alpha", "T", dir / "long_horizon_foucault_summary.tsv", "long_horizon_foucault",
+    long_horizon::summarise(work, measures, "alpha", "T", dir / "foucault_long_horizon_summary.tsv", "long_horizon",
                             params);
-    const auto d = plots::read_tsv(dir / "long_horizon_foucault.tsv");
-    const auto tt = plots::read_tsv(dir / "long_horizon_foucault_timings.tsv");
+    const auto d = plots::read_tsv(dir / "foucault_long_horizon.tsv");
+    const auto tt = plots::read_tsv(dir / "foucault_long_horizon_timings.tsv");
     const long_horizon::Table table{d, tt, "alpha", "T"};
 
     // The figure: the three measures against CPU time at the longest horizon, and the drift of (13) over time.
-    const auto dr = plots::read_tsv(dir / "long_horizon_foucault_drift.tsv");
+    const auto dr = plots::read_tsv(dir / "foucault_long_horizon_drift.tsv");
     plots::Figure fig;
     fig.title = "Foucault pendulum, alpha = " + format_number(sc.alpha) + ", T = " + format_number(horizons.back()) +
                 " s: structural error against CPU time (median); drift of (13) along the run";
@@ -364,7 +367,7 @@ int main(int argc, char** argv) {
       if (!x.empty()) pd.series.push_back({x, y, m, plots::style_for(m, "lines")});
     }
     fig.panels.push_back(std::move(pd));
-    fig.draw(dir / "long_horizon_foucault");
+    fig.draw(dir / "foucault_long_horizon");
     return 0;
-  });
+  }();
 }

@@ -16,13 +16,13 @@
 // (h = 2 pi/k); Odeint rk4 over
 // k; Odeint dopri5 and Bulirsch–Stoer (dense output on the grid) and GSL rk8pd (stepped to each output time) over
 // the tolerance, all on the system's hand-written right-hand side, whose calls are counted.
-//   long_horizon_kepler [--orbits 100 300] [--k 32 64 128 256] [--tol 1e-6 1e-8 1e-10 1e-12] [--alpha 1e-5]
+//   long_horizon --system kepler [--orbits 100 300] [--k 32 64 128 256] [--tol 1e-6 1e-8 1e-10 1e-12] [--alpha 1e-5]
 //                       [--e 0.4] [--a 0] [--theta 6.283185307179586] [--schemes ...] [--outputs 8] [--reps 3]
 // The study in docs/speed-accuracy.md (about 20 minutes on one core):
-//   long_horizon_kepler --orbits 100 1000 10000 --k 32 64 128 256 512 --tol 1e-6 1e-8 1e-10 1e-12 1e-13
-// Writes out/long_horizon_kepler.tsv (errors and evaluation counts: the same bits for the same command),
+//   long_horizon --system kepler --orbits 100 1000 10000 --k 32 64 128 256 512 --tol 1e-6 1e-8 1e-10 1e-12 1e-13
+// Writes out/kepler_long_horizon.tsv (errors and evaluation counts: the same bits for the same command),
 // _timings.tsv, _summary.tsv (CPU time to each target, crossovers, slopes), _summary_evals.tsv (the same with
-// evaluations as the cost) and the figure out/long_horizon_kepler.{png,pdf}.
+// evaluations as the cost) and the figure out/kepler_long_horizon.{png,pdf}.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -45,7 +45,8 @@
 #include "geomint/registry.hpp"
 #include "geomint/systems/kepler.hpp"
 #include "geomint/timing.hpp"
-#include "long_horizon_table.hpp"
+#include "long_horizon/table.hpp"
+#include "long_horizon/studies.hpp"
 
 using namespace geomint;
 namespace odeint = boost::numeric::odeint;
@@ -198,8 +199,8 @@ Work rk8pd_run(const Rhs& f, State x, double tol, const std::vector<double>& tim
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  return guarded_main("long_horizon_kepler", [&] {
+int long_horizon_kepler(int argc, char** argv) {
+  return [&] {
     gsl_set_error_handler_off();  // GSL's failures are statuses the baseline reports, never an abort
     std::vector<double> orbits{100, 300}, ks{32, 64, 128, 256}, tols{1e-6, 1e-8, 1e-10, 1e-12};
     std::vector<std::string> schemes{"la-trapezoid", "contact-trapezoid", "yoshida4:la-trapezoid",
@@ -207,7 +208,8 @@ int main(int argc, char** argv) {
     double alpha = 1e-5, e = 0.4, a = 0, theta = kTwoPi, reference_tol = 1e-17;
     long outputs = 8;
     int reps = 3;
-    Cli cli("long_horizon_kepler", "long-horizon structural error against CPU time and evaluations: Kepler with friction");
+    Cli cli("long_horizon", "long-horizon structural error against CPU time and evaluations: Kepler with friction");
+    add_study_system_option(cli, "kepler");
     cli.options.add_options()("orbits", po::value(&orbits)->multitoken(), "horizons in unperturbed orbits of 2 pi (default 100 300)")(
         "k", po::value(&ks)->multitoken(), "steps an orbit of the fixed-step methods, h = 2 pi/k (default 32 64 128 256)")(
         "tol", po::value(&tols)->multitoken(), "tolerances (abs = rel) of the adaptive methods (default 1e-6 .. 1e-12)")(
@@ -263,13 +265,13 @@ int main(int argc, char** argv) {
     const long n_out = std::lround(orbits.back() * static_cast<double>(outputs));
     std::vector<double> times(static_cast<std::size_t>(n_out + 1));
     for (long i = 0; i <= n_out; ++i) times[static_cast<std::size_t>(i)] = static_cast<double>(i) * h_out;
-    std::fprintf(stderr, "long_horizon_kepler: reference over %g orbits ...\n", orbits.back());
+    std::fprintf(stderr, "long_horizon: reference over %g orbits ...\n", orbits.back());
     const auto ref = reference(kep, times, reference_tol);
     const auto check = reference(kep, times, reference_tol * 100);
     double ref_diff = 0;
     for (std::size_t i = 0; i < ref.size(); ++i)
       ref_diff = std::max(ref_diff, static_cast<double>(std::hypot(ref[i][0] - check[i][0], ref[i][1] - check[i][1])));
-    std::fprintf(stderr, "long_horizon_kepler: reference within %.3g of the one at 100x its tolerance\n", ref_diff);
+    std::fprintf(stderr, "long_horizon: reference within %.3g of the one at 100x its tolerance\n", ref_diff);
     // The orbit the friction has left at each horizon (semi-major axis -1/2E, eccentricity |A|), for the header.
     std::string orbit_at;
     for (double P : orbits) {
@@ -291,7 +293,7 @@ int main(int argc, char** argv) {
       evals.push_back(pts.back().failure.empty() ? n_eval : WorkPoint::nan);
     };
     for (double P : orbits) {
-      std::fprintf(stderr, "long_horizon_kepler: %g orbits ...\n", P);
+      std::fprintf(stderr, "long_horizon: %g orbits ...\n", P);
       const ParamValues pv = values_for(P);
       const double T = P * kTwoPi;
       const std::vector<double> grid(times.begin(), times.begin() + std::lround(P * double(outputs)) + 1);
@@ -370,8 +372,8 @@ int main(int argc, char** argv) {
                      "(|A| = eccentricity, its direction the pericentre's)"}};
     const std::vector<std::string> head{"method", "family", "alpha", "orbits", "knob", "value", "steps", "evals",
                                         "phase_err", "momentum_err", "energy_err", "lrl_err"};
-    TsvWriter data(dir / "long_horizon_kepler.tsv", "long_horizon_kepler", params, head);
-    TsvWriter tim(dir / "long_horizon_kepler_timings.tsv", "long_horizon_kepler", params,
+    TsvWriter data(dir / "kepler_long_horizon.tsv", "long_horizon", params, head);
+    TsvWriter tim(dir / "kepler_long_horizon_timings.tsv", "long_horizon", params,
                   {"method", "family", "alpha", "orbits", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const auto& p = pts[i];
@@ -387,18 +389,18 @@ int main(int argc, char** argv) {
         {"momentum_err", "angular-momentum law error", 1e-9},
         {"energy_err", "relative energy error", 1e-8},
         {"lrl_err", "Laplace-Runge-Lenz vector error (eccentricity, pericentre)", 1e-6}};
-    long_horizon::summarise(pts, measures, "alpha", "orbits", dir / "long_horizon_kepler_summary.tsv", "long_horizon_kepler",
+    long_horizon::summarise(pts, measures, "alpha", "orbits", dir / "kepler_long_horizon_summary.tsv", "long_horizon",
                             params);
     // The same summary with evaluations of the equations as the cost (a point's "time" is its count).
     std::vector<WorkPoint> by_evals = pts;
     for (std::size_t i = 0; i < by_evals.size(); ++i) by_evals[i].time = {evals[i], evals[i], evals[i], 1};
     Params evals_params = params;
     evals_params.push_back({"cost", "evaluations of the equations a run (the rows of kind seconds_to_target hold them)"});
-    long_horizon::summarise(by_evals, measures, "alpha", "orbits", dir / "long_horizon_kepler_summary_evals.tsv",
-                            "long_horizon_kepler", evals_params, "Evaluations of the equations (thousands) a run", 1e-3);
-    long_horizon::draw_saved(dir, "long_horizon_kepler", "alpha", "orbits", measures, format_number(orbits.back()),
+    long_horizon::summarise(by_evals, measures, "alpha", "orbits", dir / "kepler_long_horizon_summary_evals.tsv",
+                            "long_horizon", evals_params, "Evaluations of the equations (thousands) a run", 1e-3);
+    long_horizon::draw_saved(dir, "kepler_long_horizon", "alpha", "orbits", measures, format_number(orbits.back()),
                              "Kepler with friction over " + format_number(orbits.back()) +
                                  " orbits: structural error against CPU time (median)");
     return 0;
-  });
+  }();
 }

@@ -11,13 +11,13 @@
 // base's closed form at each stage step) and Odeint's rk4 over steps per period; Odeint dopri5 and Bulirsch–Stoer
 // and GSL rk8pd over tolerance.
 // A run that fails is a missing value (nan) with a message naming method, parameters and step.
-//   long_horizon_oscillator [--alpha 0.01 0.1] [--periods 100 1000] [--m 16 32 64 128 256] [--tol 1e-5 1e-7 1e-9 1e-11]
+//   long_horizon --system oscillator [--alpha 0.01 0.1] [--periods 100 1000] [--m 16 32 64 128 256] [--tol 1e-5 1e-7 1e-9 1e-11]
 //                [--window-periods 5] [--reps 3] [--compositions yoshida4:la-trapezoid ...] [--out out]
 // The study in docs/speed-accuracy.md (6 minutes on one idle core, compositions included):
-//   long_horizon_oscillator --periods 1000 10000 100000 --m 16 32 64 128 256 512 --tol 1e-4 1e-6 1e-8 1e-10 1e-12
-// Writes out/long_horizon_oscillator.tsv (errors: the same bits for the same command),
-// out/long_horizon_oscillator_timings.tsv, out/long_horizon_oscillator_summary.tsv (times to reach each target,
-// crossovers and fitted slopes: derived from timings) and the figure out/long_horizon_oscillator.{png,pdf}.
+//   long_horizon --system oscillator --periods 1000 10000 100000 --m 16 32 64 128 256 512 --tol 1e-4 1e-6 1e-8 1e-10 1e-12
+// Writes out/oscillator_long_horizon.tsv (errors: the same bits for the same command),
+// out/oscillator_long_horizon_timings.tsv, out/oscillator_long_horizon_summary.tsv (times to reach each target,
+// crossovers and fitted slopes: derived from timings) and the figure out/oscillator_long_horizon.{png,pdf}.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -34,7 +34,8 @@
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 #include "geomint/timing.hpp"
-#include "long_horizon_table.hpp"
+#include "long_horizon/table.hpp"
+#include "long_horizon/studies.hpp"
 
 using namespace geomint;
 namespace odeint = boost::numeric::odeint;
@@ -104,14 +105,15 @@ WorkPoint measure(const std::string& method, const std::string& family, const st
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  return guarded_main("long_horizon_oscillator", [&] {
+int long_horizon_oscillator(int argc, char** argv) {
+  return [&] {
     std::vector<double> alphas{0.01, 0.1}, periods{100, 1000}, ms{16, 32, 64, 128, 256}, tols{1e-5, 1e-7, 1e-9, 1e-11};
     double q0 = -0.25, p0 = 0.75;
     double window_periods = 5;
     int reps = 3;
     std::vector<std::string> compositions{"yoshida4:la-trapezoid", "yoshida6a:la-trapezoid", "kahanli8:la-trapezoid"};
-    Cli cli("long_horizon_oscillator", "long-horizon structural error against CPU time: damped oscillator");
+    Cli cli("long_horizon", "long-horizon structural error against CPU time: damped oscillator");
+    add_study_system_option(cli, "oscillator");
     cli.options.add_options()("alpha", po::value(&alphas)->multitoken(), "damping values (default 0.01 0.1)")(
         "periods", po::value(&periods)->multitoken(), "horizons T = 2 pi periods (default 100 1000)")(
         "m", po::value(&ms)->multitoken(), "steps per period of the fixed-step methods, h = 2 pi / m (default 16 .. 256)")(
@@ -165,7 +167,7 @@ int main(int argc, char** argv) {
     std::vector<WorkPoint> pts;
     for (double a : alphas)
       for (double P : periods) {
-        std::fprintf(stderr, "long_horizon_oscillator: alpha = %g, %g periods ...\n", a, P);
+        std::fprintf(stderr, "long_horizon: alpha = %g, %g periods ...\n", a, P);
         const double T = kTwoPi * P;
         for (double m : ms) {
           const double h = kTwoPi / m;
@@ -198,7 +200,7 @@ int main(int argc, char** argv) {
         }
       }
 
-    const Params params{{"problem", "damped oscillator q'' = -q - alpha q'"}, {"alpha", format_list(alphas)},
+    const Params params{{"system", "oscillator"}, {"problem", "damped oscillator q'' = -q - alpha q'"}, {"alpha", format_list(alphas)},
                         {"periods", format_list(periods)}, {"q0", format_number(q0)}, {"p0", format_number(p0)},
                         {"m", format_list(ms) + " (steps per period, h = 2 pi/m)"}, {"tol", format_list(tols) + " (abs = rel)"},
                         {"window_periods", format_number(window_periods)}, {"reps", std::to_string(reps)},
@@ -207,9 +209,9 @@ int main(int argc, char** argv) {
                                      "|omega_fit - omega|/omega; phase_err = |theta(T) - theta(0) - omega T| rad; balance_err = "
                                      "max_k |E_k - E_k+1 - W_k|/E_k (W: trapezoid on the steps for geometric schemes, "
                                      "W' = alpha p^2 integrated by the method for rk4/adaptive)"}};
-    TsvWriter data(dir / "long_horizon_oscillator.tsv", "long_horizon_oscillator", params,
+    TsvWriter data(dir / "oscillator_long_horizon.tsv", "long_horizon", params,
                    {"method", "family", "alpha", "periods", "knob", "value", "steps", "decay_err", "freq_err", "phase_err", "balance_err"});
-    TsvWriter tim(dir / "long_horizon_oscillator_timings.tsv", "long_horizon_oscillator", params,
+    TsvWriter tim(dir / "oscillator_long_horizon_timings.tsv", "long_horizon", params,
                   {"method", "family", "alpha", "periods", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
     for (const auto& p : pts) {
       data.row(p.method, p.family, p.group, p.horizon, p.knob, p.value, p.steps, p.errors[0], p.errors[1], p.errors[2],
@@ -221,12 +223,12 @@ int main(int argc, char** argv) {
 
     std::vector<long_horizon::Measure> measures;
     for (const auto& M : kMeasures) measures.push_back({M.column, M.label, M.target});
-    long_horizon::summarise(pts, measures, "alpha", "periods", dir / "long_horizon_oscillator_summary.tsv",
-                            "long_horizon_oscillator", params);
+    long_horizon::summarise(pts, measures, "alpha", "periods", dir / "oscillator_long_horizon_summary.tsv",
+                            "long_horizon", params);
     // The figure is drawn from the files just written.
-    long_horizon::draw_saved(dir, "long_horizon_oscillator", "alpha", "periods", measures, format_number(periods.back()),
+    long_horizon::draw_saved(dir, "oscillator_long_horizon", "alpha", "periods", measures, format_number(periods.back()),
                              "Damped oscillator over " + format_number(periods.back()) +
                                  " periods: structural error against CPU time (median)");
     return 0;
-  });
+  }();
 }

@@ -1,5 +1,5 @@
 #pragma once
-// How the long-horizon programs report their study (a set of WorkPoints, work_precision.hpp): the summary
+// How the long-horizon studies report their study (a set of WorkPoints, work_precision.hpp): the summary
 // (summarise_work: the CPU time each method needs to reach a target structural error, the best geometric scheme
 // against the best adaptive method, the crossover horizon, the slope of log(error) against log(CPU time)) written
 // and printed, and the figure drawn from the saved TSVs.
@@ -141,14 +141,14 @@ inline void draw(const Table& T, const std::vector<Measure>& measures, const std
   fig.draw(stem);
 }
 
-// The figure of a study from the two files it has just saved, <program>.tsv and <program>_timings.tsv in `dir`,
-// at its longest horizon: out/<program>.{png,pdf}.
-inline void draw_saved(const std::filesystem::path& dir, const std::string& program, const std::string& group,
+// The figure of a study from the two files it has just saved, <stem>.tsv and <stem>_timings.tsv in `dir`,
+// at its longest horizon: out/<stem>.{png,pdf}.
+inline void draw_saved(const std::filesystem::path& dir, const std::string& stem, const std::string& group,
                        const std::string& horizon, const std::vector<Measure>& measures, const std::string& horizon_value,
                        const std::string& title) {
-  const auto d = plots::read_tsv(dir / (program + ".tsv"));
-  const auto tt = plots::read_tsv(dir / (program + "_timings.tsv"));
-  draw(Table{d, tt, group, horizon}, measures, horizon_value, title, dir / program);
+  const auto d = plots::read_tsv(dir / (stem + ".tsv"));
+  const auto tt = plots::read_tsv(dir / (stem + "_timings.tsv"));
+  draw(Table{d, tt, group, horizon}, measures, horizon_value, title, dir / stem);
 }
 
 }  // namespace geomint::long_horizon

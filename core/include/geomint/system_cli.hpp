@@ -64,6 +64,15 @@ class SystemsOptions {
   ParamValues presets_;
 };
 
+// --system X (or --system=X) in argv, before any parse (`fallback` when absent): what a program that runs a
+// different study per system dispatches on. --system-file PATH likewise ("" when absent).
+std::string find_system_arg(int argc, char** argv, const std::string& fallback);
+std::string find_system_file_arg(int argc, char** argv);
+
+// The options of a study that runs a system's schemes beside Odeint baselines (work_precision, long_horizon), under
+// one name and text: --equations (ad | rhs), --path (fast | generic), --norm (max | 2), --reps; values as given.
+void add_baseline_study_options(Cli& cli, std::string& equations, std::string& path, std::string& norm, int& reps);
+
 // The value of a swept parameter in a combination.
 double param_value(const ParamValues& pv, const SystemInfo& sys, const std::string& name);
 
