@@ -1,6 +1,7 @@
 // The programs that take any system by name: bad input refused with one line, and what they write.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -82,13 +83,44 @@ TEST_CASE("regularized_error writes the forced-oscillator table in the literatur
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const auto t = plots::read_tsv(dir / "forced-oscillator_regularized_error.tsv");
-  CHECK(t.columns == std::vector<std::string>{"system", "scheme", "alpha", "h", "max_rel_err"});
+  CHECK(t.columns == std::vector<std::string>{"system", "scheme", "alpha", "h", "max_rel_err", "max_abs_err"});
   CHECK(t.rows.size() == 5 * 4);
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
     const double e = t.number(i, "max_rel_err");
     CHECK(std::isfinite(e));
     CHECK(e > 1e-7);  // a first/second-order scheme at h = 0.1 has a visible error
     CHECK(e < 0.05);
+  }
+}
+
+// The paper's Figure 1: against the leapfrog at h/10 (a scheme reference), with the closed form beside it. The two
+// errors of a scheme differ by at most the reference's own error (the triangle inequality, step by step), which the
+// trajectory's reference rows carry; every step's relative error is there, and their maximum is the table's.
+TEST_CASE("regularized_error against a scheme at h/10 (the paper's Figure 1) and the closed form agree within the "
+          "reference's own error", "[programs][generic]") {
+  const auto dir = fresh_dir("regularized-fig1");
+  const auto r = run_program("regularized_error", "--system oscillator --alpha 0.01 0.1 --schemes la la-printed contact "
+                                                  "--reference leapfrog --trajectory --out " + dir.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto t = plots::read_tsv(dir / "oscillator_regularized_error.tsv");
+  const auto tr = plots::read_tsv(dir / "oscillator_regularized_error_trajectory.tsv");
+  REQUIRE(t.rows.size() == 6);
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    const std::string scheme = t.text(i, "scheme");
+    const double alpha = t.number(i, "alpha");
+    INFO(scheme << " alpha " << alpha);
+    auto of = [&](const std::string& s) {
+      return [&, s](std::size_t k) { return tr.text(k, "scheme") == s && tr.number(k, "alpha") == alpha; };
+    };
+    const auto ref_err = tr.numbers("abs_err_exact", of("leapfrog-ref"));
+    const auto rel = tr.numbers("rel_err", of(scheme));
+    REQUIRE(ref_err.size() == 501);
+    REQUIRE(rel.size() == 501);
+    const double d = *std::max_element(ref_err.begin(), ref_err.end());
+    CHECK(d < 1e-3);  // second order at h = 0.01 over 50 time units
+    CHECK(std::abs(t.number(i, "max_abs_err") - t.number(i, "max_abs_err_exact")) <= d);
+    CHECK(*std::max_element(rel.begin(), rel.end()) == t.number(i, "max_rel_err"));
   }
 }
 

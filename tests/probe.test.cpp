@@ -274,6 +274,16 @@ const ProgramCase table[] = {
 #include "probe_table.inc"
 };
 
+// The paper's Figure 1 as regularized_error draws it (two tables, a stored trajectory, two figures): the run the tests
+// of the output folder write with. fig1(...) is its command line with the given options; its files start with fig1_stem.
+const std::string fig1_program = "regularized_error", fig1_stem = "oscillator_regularized_error";
+std::vector<std::string> fig1(std::vector<std::string> more) {
+  std::vector<std::string> a{"--system", "oscillator", "--schemes", "la", "la-printed", "contact", "--reference", "leapfrog",
+                             "--trajectory"};
+  a.insert(a.end(), more.begin(), more.end());
+  return a;
+}
+
 std::vector<std::string> programs() {
   std::vector<std::string> p;
   for (const auto& e : fs::directory_iterator(GEOMINT_BIN_DIR)) {
@@ -379,7 +389,7 @@ TEST_CASE("probe: every terminating signal mid-run leaves the old outputs and no
     // The handler is one for every program: each program is probed with three signals, three programs (one
     // without Sweep, a sweep, one without figures) with all of them.
     const std::string p = c.program;
-    const bool all = p == "fig1_oscillator" || p == "convergence" || p == "modified_equation";
+    const bool all = p == "regularized_error" || p == "convergence" || p == "modified_equation";
     for (int sig : interrupt_signals) {
       if (!all && sig != SIGINT && sig != SIGTERM && sig != SIGHUP) continue;
       const auto o = interrupted(c.program, plus(split(c.ok), {"--out", out.string(), "--no-budget"}), base, sig);
@@ -487,7 +497,7 @@ TEST_CASE("probe: tolerances below a double's precision are refused", "[probe]")
 }
 
 TEST_CASE("probe: degenerate data (a zero state) gives figures, not gnuplot errors", "[probe]") {
-  for (const auto& args : {std::vector<std::string>{"fig1_oscillator", "--h", "0.1", "--T", "2", "--q0", "0", "--p0", "0"},
+  for (const auto& args : {plus({fig1_program}, fig1({"--h", "0.1", "--T", "2", "--q0", "0", "--p0", "0"})),
                            std::vector<std::string>{"convergence", "--system", "oscillator", "--h-max", "0.2", "--h-min",
                                                     "0.1", "--T", "2", "--q0", "0", "--p0", "0"}}) {
     const auto base = fresh_dir("probe-degenerate");
@@ -503,7 +513,7 @@ TEST_CASE("probe: degenerate data (a zero state) gives figures, not gnuplot erro
 
 TEST_CASE("probe: a run whose stored trajectory cannot fit in memory is refused before it starts", "[probe]") {
   // 1e10 steps, the reference at h/10 stored as (t, q, p): 2.4 TB, beyond MemAvailable (and within the step limit)
-  check_refused("fig1_oscillator", {"--h", "1e-3", "--T", "1e7", "--ref-factor", "10"}, "MB of memory available");
+  check_refused(fig1_program, fig1({"--h", "1e-3", "--T", "1e7", "--ref-factor", "10"}), "MB of memory available");
   // the registry's reference (closed form or Odeint) on 1e10 times: 80 GB and more, whatever the study
   check_refused("regularized_error", {"--system", "forced-oscillator", "--alpha", "0.1", "--h", "0.1", "--T", "1e9"},
                 "lower --T or raise --h");
@@ -528,7 +538,7 @@ TEST_CASE("probe: an option left without its value, a name given twice and an un
   // both as "not applicable" and wrote into ./out
   check_refused("modified_cost", {"--systems", "pendulum", "--schemes", "--reps", "1"}, "has no value before the option '--reps'");
   check_refused("modified_cost", {"--systems", "pendulum", "--schemes", "la", "abc"}, "unknown scheme 'abc'");
-  check_refused("fig1_oscillator", {"--schemes", "la", "la"}, "'la' is given twice to --schemes");
+  check_refused("regularized_error", {"--system", "oscillator", "--schemes", "la", "la"}, "'la' is given twice to --schemes");
   check_refused("modified_agreement", {"--systems", "pendulum", "pendulum"}, "'pendulum' is given twice to --systems");
   // a nan given for an option whose default is "each setting's own" was taken as not given
   check_refused("kepler_anchor", {"--settings", "anchor-1", "--tau", "nan"}, "tau must be a positive finite number");
@@ -624,8 +634,7 @@ TEST_CASE("probe: a refusal that comes after the output folder was made leaves n
   // the folders the run created, nested ones included, are removed again; a folder that was there stays
   const std::vector<std::pair<std::string, std::vector<std::string>>> late{
       {"stability", {"--alpha-max", "1e308"}},
-      {"stability", {"--alpha-min", "1e-320"}},
-      {"fig1_oscillator", {"--T", "4e-320", "--h", "4e-320"}}};
+      {"stability", {"--alpha-min", "1e-320"}}};
   for (const auto& [program, args] : late) {
     const auto base = fresh_dir("probe-late");
     const auto out = base / "a" / "b" / "out";
@@ -669,12 +678,12 @@ TEST_CASE("probe: a signal ignored when the program starts (nohup) stays ignored
   opt.fault = "stop-after-staging";
   opt.interrupt = SIGHUP;
   opt.hup_ignored = true;
-  const auto o = spawn("fig1_oscillator", {"--h", "0.1", "--T", "2", "--out", out.string()}, base, opt);
+  const auto o = spawn(fig1_program, fig1({"--h", "0.1", "--T", "2", "--out", out.string()}), base, opt);
   INFO("exit " << o.exit_code << ": " << o.err);
   CHECK(o.stopped);  // it was stopped mid-run and got SIGHUP there
   CHECK(o.exit_code == 0);
   CHECK(o.err.empty());
-  CHECK(fs::exists(out / "fig1_oscillator.pdf"));
+  CHECK(fs::exists(out / (fig1_stem + "_trajectory.pdf")));
   CHECK(temporaries(out).empty());
   fs::remove_all(base);
 }
@@ -698,7 +707,7 @@ TEST_CASE("probe: no program carries a test hook, and the old one's variable doe
     opt.env = {std::string("GEOMINT_FAULT_STOP_AFTER_FIRST_OUTPUT=") + value};
     opt.interrupt = SIGTERM;  // sent only if the program stops
     opt.seconds = 120;
-    const auto o = spawn("fig1_oscillator", {"--h", "0.1", "--T", "2", "--out", (base / "out").string()}, base, opt);
+    const auto o = spawn(fig1_program, fig1({"--h", "0.1", "--T", "2", "--out", (base / "out").string()}), base, opt);
     INFO("GEOMINT_FAULT_STOP_AFTER_FIRST_OUTPUT='" << value << "' -> exit " << o.exit_code << ": " << o.err);
     CHECK(!o.stopped);
     CHECK(o.exit_code == 0);
@@ -710,17 +719,17 @@ TEST_CASE("probe: no program carries a test hook, and the old one's variable doe
 TEST_CASE("probe: a second run into a busy output folder refuses at once and changes nothing", "[probe]") {
   const auto base = fresh_dir("probe-busy");
   const auto out = base / "out";
-  REQUIRE(spawn("fig1_oscillator", {"--h", "0.1", "--T", "2", "--out", out.string()}, base).exit_code == 0);
+  REQUIRE(spawn(fig1_program, fig1({"--h", "0.1", "--T", "2", "--out", out.string()}), base).exit_code == 0);
   // the first run stops mid-run, holding the folder
   Options hold;
   hold.fault = "stop-after-staging";
-  const Started first = start("fig1_oscillator", {"--h", "0.1", "--T", "3", "--out", out.string()}, base, hold);
+  const Started first = start(fig1_program, fig1({"--h", "0.1", "--T", "3", "--out", out.string()}), base, hold);
   int status = 0;
   REQUIRE(wait_for(first.pid, status, WUNTRACED, 120));
   REQUIRE(WIFSTOPPED(status));
   const auto before = snapshot(out);
-  for (const char* program : {"fig1_oscillator", "modified_equation"}) {
-    const auto args = std::string(program) == "fig1_oscillator" ? split("--h 0.1 --T 4") : split(case_of(program)->ok);
+  for (const char* program : {"regularized_error", "modified_equation"}) {
+    const auto args = program == fig1_program ? fig1({"--h", "0.1", "--T", "4"}) : split(case_of(program)->ok);
     const auto second = spawn(program, plus(args, {"--out", out.string()}), base);
     INFO(program << " -> exit " << second.exit_code << ": " << second.err);
     CHECK(second.exit_code == 2);
@@ -734,7 +743,7 @@ TEST_CASE("probe: a second run into a busy output folder refuses at once and cha
   INFO("first run -> exit " << o.exit_code << ": " << o.err);
   CHECK(o.exit_code == 0);
   CHECK(o.err.empty());
-  CHECK(read_bytes(out / "fig1_oscillator.tsv").find("# T: 3\n") != std::string::npos);
+  CHECK(read_bytes(out / (fig1_stem + ".tsv")).find("# T: 3\n") != std::string::npos);
   CHECK(temporaries(out).empty());
   fs::remove_all(base);
 }
@@ -760,9 +769,9 @@ bool has_staging(const fs::path& dir) {
   return false;
 }
 
-const std::vector<std::string> old_args = split("--h 0.1 --T 2"), new_args = split("--h 0.1 --T 3");
+const std::vector<std::string> old_args = fig1({"--h", "0.1", "--T", "2"}), new_args = fig1({"--h", "0.1", "--T", "3"});
 
-// An output folder holding fig1_oscillator's old outputs; `fault` then hits a run with new parameters into it.
+// An output folder holding the Figure 1 run's old outputs; `fault` then hits a run with new parameters into it.
 struct Crash {
   fs::path base, out;
   std::map<std::string, std::string> old_files;
@@ -773,11 +782,11 @@ Crash crash(const std::string& name, const std::string& fault) {
   Crash c;
   c.base = fresh_dir(name);
   c.out = c.base / "out";
-  REQUIRE(spawn("fig1_oscillator", plus(old_args, {"--out", c.out.string()}), c.base).exit_code == 0);
-  c.old_files = files_of(c.out, "fig1_oscillator");
+  REQUIRE(spawn(fig1_program, plus(old_args, {"--out", c.out.string()}), c.base).exit_code == 0);
+  c.old_files = files_of(c.out, fig1_stem);
   Options opt;
   opt.fault = fault;
-  c.killed = spawn("fig1_oscillator", plus(new_args, {"--out", c.out.string()}), c.base, opt);
+  c.killed = spawn(fig1_program, plus(new_args, {"--out", c.out.string()}), c.base, opt);
   return c;
 }
 
@@ -786,13 +795,13 @@ Outcome heal(const Crash& c, const Options& opt = {}) {
   return spawn("modified_equation", plus(split(case_of("modified_equation")->ok), {"--out", c.out.string()}), c.base, opt);
 }
 
-// The next run healed the folder to fig1_oscillator's old outputs, and said `what` on its one line.
+// The next run healed the folder to the Figure 1 run's old outputs, and said `what` on its one line.
 void check_healed_to_old(const Crash& c, const Outcome& h, const std::string& what) {
   INFO("next run -> exit " << h.exit_code << ": " << h.err);
   CHECK(h.exit_code == 0);
   CHECK(h.lines() == 1);
   CHECK(h.err.find(what) != std::string::npos);
-  CHECK(files_of(c.out, "fig1_oscillator") == c.old_files);
+  CHECK(files_of(c.out, fig1_stem) == c.old_files);
   CHECK(temporaries(c.out).empty());
 }
 }  // namespace
@@ -800,9 +809,9 @@ void check_healed_to_old(const Crash& c, const Outcome& h, const std::string& wh
 TEST_CASE("probe: a run killed at each move of its commit is finished by the next run into the folder", "[probe]") {
   // the new outputs, complete, from an uninterrupted run
   const auto ref = fresh_dir("probe-commit-ref");
-  REQUIRE(spawn("fig1_oscillator", plus(new_args, {"--out", (ref / "out").string()}), ref).exit_code == 0);
-  const auto new_tables = tables(files_of(ref / "out", "fig1_oscillator"));
-  const std::size_t n = files_of(ref / "out", "fig1_oscillator").size();
+  REQUIRE(spawn(fig1_program, plus(new_args, {"--out", (ref / "out").string()}), ref).exit_code == 0);
+  const auto new_tables = tables(files_of(ref / "out", fig1_stem));
+  const std::size_t n = files_of(ref / "out", fig1_stem).size();
   REQUIRE(n == 4);
   for (std::size_t k = 1; k <= n + 1; ++k) {
     const std::string fault = k <= n ? "kill-before-move=" + std::to_string(k) : "kill-after-move=" + std::to_string(n);
@@ -819,8 +828,8 @@ TEST_CASE("probe: a run killed at each move of its commit is finished by the nex
     CHECK(h.err.find("finished the commit of a run killed while committing (" + std::to_string(left) + " of " +
                      std::to_string(n) + " files were still to move)") != std::string::npos);
     // the killed run's new outputs, all of them, and the next run's own; nothing else
-    CHECK(tables(files_of(c.out, "fig1_oscillator")) == new_tables);
-    CHECK(files_of(c.out, "fig1_oscillator").size() == n);
+    CHECK(tables(files_of(c.out, fig1_stem)) == new_tables);
+    CHECK(files_of(c.out, fig1_stem).size() == n);
     CHECK(fs::exists(c.out / "modified_equation.tsv"));
     CHECK(temporaries(c.out).empty());
     CHECK(files_of(c.out, ".").empty());  // no .old-*, no lock, no journal
@@ -869,14 +878,14 @@ TEST_CASE("probe: a run killed before its commit began leaves the old outputs, a
     } else {
       c.base = fresh_dir("probe-midrun");
       c.out = c.base / "out";
-      REQUIRE(spawn("fig1_oscillator", plus(old_args, {"--out", c.out.string()}), c.base).exit_code == 0);
-      c.old_files = files_of(c.out, "fig1_oscillator");
-      c.killed = interrupted("fig1_oscillator", plus(new_args, {"--out", c.out.string()}), c.base, SIGKILL);
+      REQUIRE(spawn(fig1_program, plus(old_args, {"--out", c.out.string()}), c.base).exit_code == 0);
+      c.old_files = files_of(c.out, fig1_stem);
+      c.killed = interrupted(fig1_program, plus(new_args, {"--out", c.out.string()}), c.base, SIGKILL);
     }
     INFO((fault.empty() ? "SIGKILL mid-run" : fault) << " -> signal " << c.killed.signal << ": " << c.killed.err);
     CHECK(c.killed.signal == SIGKILL);
     CHECK(has_staging(c.out));
-    CHECK(files_of(c.out, "fig1_oscillator") == c.old_files);  // untouched before the journal
+    CHECK(files_of(c.out, fig1_stem) == c.old_files);  // untouched before the journal
     check_healed_to_old(c, heal(c), "removed the staging folder of a run that ended without committing");
     fs::remove_all(c.base);
   }
@@ -890,7 +899,7 @@ TEST_CASE("probe: symlinks planted in the output folder are never followed", "[p
   // in the lock's place: refused, nothing changed
   fs::create_symlink("../victim.txt", out / ".geomint-lock");
   auto before = snapshot(out);
-  const auto refused = spawn("fig1_oscillator", plus(old_args, {"--out", out.string()}), base);
+  const auto refused = spawn(fig1_program, plus(old_args, {"--out", out.string()}), base);
   INFO("exit " << refused.exit_code << ": " << refused.err);
   CHECK(refused.exit_code == 2);
   CHECK(refused.lines() == 1);
@@ -899,13 +908,13 @@ TEST_CASE("probe: symlinks planted in the output folder are never followed", "[p
   CHECK(read_bytes(base / "victim.txt") == "victim\n");
   fs::remove(out / ".geomint-lock");
   // in an output's place: the output replaces the link, the file it pointed to stays
-  fs::create_symlink("../victim.txt", out / "fig1_oscillator_summary.tsv");
-  const auto o = spawn("fig1_oscillator", plus(old_args, {"--out", out.string()}), base);
+  fs::create_symlink("../victim.txt", out / (fig1_stem + ".tsv"));
+  const auto o = spawn(fig1_program, plus(old_args, {"--out", out.string()}), base);
   INFO("exit " << o.exit_code << ": " << o.err);
   CHECK(o.exit_code == 0);
   CHECK(read_bytes(base / "victim.txt") == "victim\n");
-  CHECK(!fs::is_symlink(out / "fig1_oscillator_summary.tsv"));
-  CHECK(read_bytes(out / "fig1_oscillator_summary.tsv").rfind("# program: fig1_oscillator\n", 0) == 0);
+  CHECK(!fs::is_symlink(out / (fig1_stem + ".tsv")));
+  CHECK(read_bytes(out / (fig1_stem + ".tsv")).rfind("# program: regularized_error\n", 0) == 0);
   CHECK(temporaries(out).empty());
   fs::remove_all(base);
 }
@@ -940,7 +949,8 @@ Outcome mpi(const std::string& program, const std::vector<std::string>& args, co
 
 // A program without Sweep (its other rank leaves at once) and a sweep program (both ranks compute), tiny runs.
 const std::vector<std::pair<std::string, std::string>> mpi_programs{
-    {"fig1_oscillator", "--h 0.1 --T 2"}, {"convergence", "--system oscillator --h-max 0.2 --h-min 0.1 --T 2"}};
+    {"regularized_error", "--system oscillator --schemes la la-printed contact --reference leapfrog --trajectory --h 0.1 --T 2"},
+    {"convergence", "--system oscillator --h-max 0.2 --h-min 0.1 --T 2"}};
 }  // namespace
 
 TEST_CASE("probe (MPI): bad input under mpiexec -n 2 is one line in all, and nothing is written", "[probe][mpi]") {
