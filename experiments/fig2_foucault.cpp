@@ -4,9 +4,9 @@
 // says the LA anomaly disappears at h/20 = 0.005) and, per h, the plane of oscillation against its exact
 // angle theta0 - Omega sin(beta) t at every turning point.
 //   fig2_foucault [--h 0.1 0.005] [--alpha 1e-3 1e-4] [--T 3600] [--start legendre] [--sample-dt 2]
-//                 [--constraint paper] [--out out]
-// --constraint rotation runs the remedy of foucault.hpp instead of the paper's third row of (15)/(18); its
-// files are named fig2_foucault_rotation* so they sit next to the paper's.
+//                 [--system foucault] [--out out]
+// --system foucault-rotation runs the remedy of foucault.hpp (the rotation discretization of (13)) instead of the
+// paper's third row of (15)/(18); its files are named fig2_foucault_rotation* so they sit next to the paper's.
 // For the first h writes out/fig2_foucault.tsv (decimated samples: every sample-dt seconds and every
 // turning point, plus closed-form reference rows), out/fig2_foucault_summary.tsv (one row per scheme and
 // alpha), out/fig2_foucault.{png,pdf} and out/fig2_foucault_plane.{png,pdf}, all drawn from the TSV;
@@ -45,16 +45,16 @@ int main(int argc, char** argv) {
     systems::FoucaultPendulum base;  // the scene: the systems' parameters
     std::vector<double> hs{0.1, 0.005}, alphas{1e-3, 1e-4};
     std::vector<std::string> names{"la-nh", "contact-nh"};
-    std::string start_name = "legendre", constraint_name = "paper";
+    std::string start_name = "legendre", system_name = "foucault";
     double sample_dt = 2;
     Cli cli("fig2_foucault", "Figure 2: damped Foucault pendulum, LA vs contact nonholonomic integrators");
     cli.options.add_options()("h", po::value(&hs)->multitoken()->default_value(hs, "0.1 0.005"),
                               "step sizes (the first is Figure 2, each further one a companion figure)")(
         "alpha", po::value(&alphas)->multitoken()->default_value(alphas, "1e-3 1e-4"), "damping values")(
         "start", po::value(&start_name)->default_value(start_name), "starting procedure: legendre or taylor")(
-        "constraint", po::value(&constraint_name)->default_value(constraint_name),
-        "discretization of (13): paper (system foucault: the third row of (15)/(18)) or rotation (system "
-        "foucault-rotation: the remedy)")(
+        "system", po::value(&system_name)->default_value(system_name),
+        "the Foucault system: foucault (the paper's discretization of (13), the third row of (15)/(18)) or "
+        "foucault-rotation (the remedy); 'paper' and 'rotation' name them too")(
         "schemes", po::value(&names)->multitoken()->default_value(names, "la-nh contact-nh"), "schemes")(
         "sample-dt", po::value(&sample_dt)->default_value(sample_dt),
         "keep a sample every sample-dt seconds (plus every turning point)");
@@ -65,7 +65,8 @@ int main(int argc, char** argv) {
     validate_foucault_sweep(base, hs, alphas);
     base.validate();
     const FoucaultStart start = parse_foucault_start(start_name);
-    const std::string system = systems::foucault_system_name(constraint_name);
+    const std::string system = systems::foucault_system_name(system_name);
+    const std::string constraint_name = systems::foucault_discretization(system_name);
     const bool paper = system == systems::Foucault::name;
     const std::string stem0 = paper ? "fig2_foucault" : "fig2_foucault_" + constraint_name;
     for (const auto& n : names)  // a scheme with a closed form on the system (la, contact; la-nh, contact-nh)

@@ -498,7 +498,7 @@ const BadInput foucault_bad_inputs[] = {
     {"fig2_foucault", "--alpha=-1", "alpha must be a non-negative"},
     {"fig2_foucault", "--alpha nan", "alpha must be a non-negative"},
     {"fig2_foucault", "--start euler", "unknown start 'euler'"},
-    {"fig2_foucault", "--constraint nosuch", "unknown constraint discretization 'nosuch'"},
+    {"fig2_foucault", "--system nosuch", "unknown constraint discretization 'nosuch'"},
     {"fig2_foucault", "--schemes la-nh nosuch", "unknown scheme 'nosuch'"},
     {"fig2_foucault", "--beta 91", "beta must be a latitude"},
     {"fig2_foucault", "--x0 0", "q0 must not be the origin"},

@@ -444,7 +444,7 @@ const BadInput anomaly_bad_inputs[] = {
     {"--h 0.1 0.7", "not an integer"},
     {"--alpha=-1", "alpha must be a non-negative"},
     {"--schemes nosuch", "unknown scheme 'nosuch'"},
-    {"--constraints paper nosuch", "unknown constraint discretization 'nosuch'"},
+    {"--systems foucault nosuch", "unknown constraint discretization 'nosuch'"},
     {"--threads 0", "threads must be in"},
     {"--record-deg 0", "record-deg must be in"},
     {"--worst -1", "worst must be in"},
@@ -489,10 +489,10 @@ TEST_CASE("anomaly_foucault writes tidy TSVs and figures", "[foucault][programs]
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("fig2_foucault --constraint rotation: the remedy's Figure 2, beside the paper's", "[foucault][programs]") {
+TEST_CASE("fig2_foucault --system foucault-rotation: the remedy's Figure 2, beside the paper's", "[foucault][programs]") {
   using namespace geomint::testing;
   const auto dir = fresh_dir("foucault-fig2-rotation");
-  const auto r = run_program("fig2_foucault", "--T 400 --h 0.1 --constraint rotation --out " + dir.string());
+  const auto r = run_program("fig2_foucault", "--T 400 --h 0.1 --system foucault-rotation --out " + dir.string());
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   for (const char* f : {"fig2_foucault_rotation.tsv", "fig2_foucault_rotation_summary.tsv", "fig2_foucault_rotation.png",
