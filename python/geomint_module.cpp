@@ -287,11 +287,12 @@ py::dict convergence(const System& s, const std::vector<std::string>& schemes_as
 }
 
 // Error and median CPU seconds of one run of each scheme against h, and of each baseline against h (rk4) or its
-// tolerance: the work_precision program's study (work_precision_study), as arrays.
+// tolerance: the work_precision program's study (work_precision_study), as arrays; with relative_window > 0 also
+// the error relative to the solution's size over that window (long_horizon's err_rel).
 py::dict work_precision(const System& s, const std::vector<std::string>& schemes_asked, const std::vector<double>& hs,
                         const py::dict& params, const std::string& path, int reps, const std::string& ref_name, double tol,
                         const std::vector<std::string>& baselines, const std::vector<double>& tols,
-                        const std::string& equations, const std::string& adaptive_error) {
+                        const std::string& equations, const std::string& adaptive_error, double relative_window) {
   const SystemInfo& sys = s.info();
   const ParamValues pv = param_values(params);
   WorkPrecisionOptions opt;
@@ -308,6 +309,7 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
           "unknown adaptive error '" + adaptive_error + "' (known: output steps)");
   opt.hand_written = equations == "rhs";
   opt.at_steps = adaptive_error == "steps";
+  opt.relative_window = relative_window;
   check_work_precision(sys, {pv}, opt);
   WorkPrecisionStudy study;
   {
@@ -316,7 +318,7 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
   }
   // per method, its points in the study's order (over h, or over tol)
   std::vector<std::string> methods;
-  std::vector<std::vector<double>> value, error, seconds;
+  std::vector<std::vector<double>> value, error, seconds, relative;
   std::vector<std::string> knob;
   for (const auto& pt : study.points) {
     auto it = std::find(methods.begin(), methods.end(), pt.method);
@@ -326,18 +328,21 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
       value.emplace_back();
       error.emplace_back();
       seconds.emplace_back();
+      relative.emplace_back();
       it = methods.end() - 1;
     }
     const auto i = static_cast<std::size_t>(it - methods.begin());
     value[i].push_back(pt.value);
     error[i].push_back(pt.errors[0]);
+    if (pt.errors.size() > 1) relative[i].push_back(pt.errors[1]);
     seconds[i].push_back(pt.time.median);
   }
-  py::dict err, sec, val, kn;
+  py::dict err, sec, val, kn, rel;
   for (std::size_t i = 0; i < methods.size(); ++i) {
     const py::str name(methods[i]);
     const auto n = static_cast<long>(value[i].size());
     err[name] = to_array(error[i], n);
+    if (relative_window > 0) rel[name] = to_array(relative[i], n);
     sec[name] = to_array(seconds[i], n);
     val[name] = to_array(value[i], n);
     kn[name] = knob[i];
@@ -345,6 +350,7 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
   py::dict d;
   d["h"] = to_array(hs, static_cast<long>(hs.size()));
   d["error"] = err;
+  if (relative_window > 0) d["relative_error"] = rel;
   d["seconds"] = sec;
   d["value"] = val;
   d["knob"] = kn;
@@ -643,8 +649,11 @@ PYBIND11_MODULE(_geomint, m) {
            py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reps") = 3, py::arg("reference") = "auto",
            py::arg("tol") = 1e-13, py::arg("baselines") = std::vector<std::string>{},
            py::arg("tols") = std::vector<double>{}, py::arg("equations") = "ad", py::arg("adaptive_error") = "output",
+           py::arg("relative_window") = 0.0,
            "error and median CPU seconds of one run, per method: the schemes against h, the baselines (odeint-rk4 over h; "
-           "odeint-dopri5, odeint-bulirsch-stoer, gsl-rk8pd over tols) as the work_precision program runs them")
+           "odeint-dopri5, odeint-bulirsch-stoer, gsl-rk8pd over tols) as the work_precision program runs them; with "
+           "relative_window > 0 also relative_error, the error relative to the solution's size over that window as "
+           "long_horizon measures it")
       .def("modified_equation", &modified_equation, py::arg("scheme"), py::arg("order") = 4, py::arg("t") = 0.0,
            py::arg("q") = std::vector<double>{}, py::arg("v") = std::vector<double>{}, py::arg("z") = 0.0,
            py::arg("params") = py::dict(),

@@ -154,6 +154,26 @@ def test_work_precision_errors_are_the_convergence_errors():
     assert np.all(wp["seconds"]["la"] > 0)
 
 
+def test_relative_error_is_long_horizons(tmp_path):
+    # long_horizon's generic study and the module run one study: its err_rel (the error relative to the solution's
+    # size over the last T) is the module's relative_error at that window, bit for bit, schemes and baselines alike
+    program("long_horizon", "--system", "pendulum", "--horizons", 2, "--h-max", 0.1, "--h-min", 0.05, "--schemes", "la",
+            "yoshida4:la-trapezoid", "--baselines", "odeint-rk4", "odeint-dopri5", "--tol", 1e-6, 1e-8, "--reps", 1,
+            out=tmp_path)
+    table = geomint.read_tsv(tmp_path / "pendulum_long_horizon.tsv")
+    wp = geomint.system("pendulum").work_precision(
+        ["la", "yoshida4:la-trapezoid"], h=[0.1, 0.05], params={"T": 40}, reps=1,
+        baselines=["odeint-rk4", "odeint-dopri5"], tols=[1e-6, 1e-8], relative_window=20)
+    for method in ("la", "yoshida4:la-trapezoid", "odeint-rk4", "odeint-dopri5"):
+        rows = table["method"] == method
+        assert [text(x) for x in wp["relative_error"][method]] == [text(x) for x in table["err_rel"][rows]], method
+        assert [text(x) for x in wp["error"][method]] == [text(x) for x in table["err_max"][rows]], method
+    # the relative error of a first-order scheme halves with h
+    rel = wp["relative_error"]["la"]
+    assert 1.8 < rel[0] / rel[1] < 2.2
+    assert "relative_error" not in geomint.system("pendulum").work_precision(["la"], h=[0.1], reps=1)
+
+
 def test_work_precision_baselines_are_the_programs(tmp_path):
     # the module and the program run one study: the same errors, bit for bit, for schemes and baselines alike
     program("work_precision", "--system", "oscillator", "--T", 10, "--h-max", 0.1, "--h-min", 0.025, "--schemes", "la",
