@@ -107,6 +107,9 @@ int long_horizon_generic(int argc, char** argv) {
       sys.validate(r);
       runs.push_back(std::move(r));
     }
+  for (const auto& b : opt.baselines)  // the errors are taken at dense output (there is no --adaptive-error here)
+    require(b != "gsl-rk8pd", "baseline 'gsl-rk8pd' has no dense output, which this study measures at (known here: "
+                              "odeint-rk4 odeint-dopri5 odeint-bulirsch-stoer)");
   opt.relative_window = sys.horizon(combos.front());  // the system's T (not swept)
   check_work_precision(sys, runs, opt);
   const auto dir = prepare_output_dir(cli.out);
