@@ -316,6 +316,11 @@ void check_work_precision(const SystemInfo& sys, const std::vector<ParamValues>&
   require(std::isfinite(opt.relative_window) && opt.relative_window >= 0, "the relative error's window must be >= 0");
   require(opt.relative_window == 0 || !opt.at_steps,
           "the relative error is taken on the output grid: it cannot be asked with the error at the adaptive steps");
+  if (opt.relative_window > 0) {  // the output grid t_k = k h-max: every h divides h-max, h-max divides every T
+    const double h_out = *std::max_element(opt.hs.begin(), opt.hs.end());
+    for (double h : opt.hs) ratio_of(h_out, h);
+    for (const auto& pv : combos) step_count(h_out, sys.horizon(pv));
+  }
   for (double tol : opt.tols) check_tolerance(tol, "tol");
   if (opt.at_steps && over_tol)
     require(sys.has_exact, "--adaptive-error steps needs a closed-form solution, which system '" + sys.name +

@@ -172,6 +172,8 @@ def test_relative_error_is_long_horizons(tmp_path):
     rel = wp["relative_error"]["la"]
     assert 1.8 < rel[0] / rel[1] < 2.2
     assert "relative_error" not in geomint.system("pendulum").work_precision(["la"], h=[0.1], reps=1)
+    with pytest.raises(geomint.InputError, match="does not divide h-max"):  # refused before any run
+        geomint.system("pendulum").work_precision(["la"], h=[0.1, 0.03], reps=1, relative_window=20)
 
 
 def test_work_precision_baselines_are_the_programs(tmp_path):
