@@ -341,23 +341,10 @@ int long_horizon_foucault(int argc, char** argv) {
     fig.width_in = 15;
     fig.height_in = 9;
     const auto methods = table.values("method");
-    for (const auto& M : measures) {
-      plots::Panel p;
-      p.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
-                "set ylabel '" + M.column + "' noenhanced\nset key bottom left font ',7'\nset title '" + M.label + "' font ',9' noenhanced\n";
-      for (const auto& m : methods) {
-        auto keep = [&](std::size_t i) { return d.text(i, "method") == m && d.number(i, "T") == horizons.back(); };
-        const auto xs = tt.numbers("seconds_median", keep), ys = d.numbers(M.column, keep);
-        std::vector<double> x, y;
-        for (std::size_t i = 0; i < xs.size(); ++i)
-          if (std::isfinite(xs[i]) && std::isfinite(ys[i]) && ys[i] > 0) {
-            x.push_back(xs[i]);
-            y.push_back(ys[i]);
-          }
-        if (!x.empty()) p.series.push_back({x, y, m, plots::style_for(m, "linespoints")});
-      }
-      fig.panels.push_back(std::move(p));
-    }
+    for (const auto& M : measures)
+      fig.panels.push_back(long_horizon::cost_panel(d, tt, M, methods, M.label, [&](std::size_t i, const std::string& m) {
+        return d.text(i, "method") == m && d.number(i, "T") == horizons.back();
+      }));
     plots::Panel pd;
     pd.setup = "set logscale y\nset format y '10^{%L}'\nset xlabel 't (s)'\nset ylabel '|Phi| / (|q||v| + s|q|^2)'\n"
                "set key top left font ',7'\nset title '(13) at the turning points (finest h, last tol; schemes: central v)' font ',9' noenhanced\n";

@@ -109,6 +109,28 @@ inline void summarise(const std::vector<WorkPoint>& points, const std::vector<Me
   }
 }
 
+// One panel: the error `M` against CPU time, a line per method, over the rows in(row, method) selects.
+template <class In>
+plots::Panel cost_panel(const plots::TsvTable& d, const plots::TsvTable& tt, const Measure& M,
+                        const std::vector<std::string>& methods, const std::string& title, In&& in) {
+  plots::Panel p;
+  p.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
+            "set ylabel '" + M.column + "' noenhanced\nset key bottom left font ',7'\nset title '" + title +
+            "' font ',9' noenhanced\n";
+  for (const auto& m : methods) {
+    auto keep = [&](std::size_t i) { return in(i, m); };
+    const auto xs = tt.numbers("seconds_median", keep), ys = d.numbers(M.column, keep);
+    std::vector<double> x, y;
+    for (std::size_t i = 0; i < xs.size(); ++i)
+      if (std::isfinite(xs[i]) && std::isfinite(ys[i]) && ys[i] > 0) {
+        x.push_back(xs[i]);
+        y.push_back(ys[i]);
+      }
+    if (!x.empty()) p.series.push_back({x, y, m, plots::style_for(m, "linespoints")});
+  }
+  return p;
+}
+
 // One panel per (group, measure) at one horizon: error against CPU time, one line per method.
 inline void draw(const Table& T, const std::vector<Measure>& measures, const std::string& horizon_value,
                  const std::string& title, const std::filesystem::path& stem) {
@@ -120,24 +142,9 @@ inline void draw(const Table& T, const std::vector<Measure>& measures, const std
   fig.width_in = 4.5 * fig.cols;
   fig.height_in = 4.2 * fig.rows;
   for (const auto& g : groups)
-    for (const auto& M : measures) {
-      plots::Panel p;
-      p.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
-                "set ylabel '" + M.column + "' noenhanced\nset key bottom left font ',7'\nset title '" + M.label + ", " + T.group +
-                " = " + g + "' font ',9' noenhanced\n";
-      for (const auto& m : methods) {
-        auto keep = [&](std::size_t i) { return T.in(i, m, g, horizon_value); };
-        const auto xs = T.tt.numbers("seconds_median", keep), ys = T.d.numbers(M.column, keep);
-        std::vector<double> x, y;
-        for (std::size_t i = 0; i < xs.size(); ++i)
-          if (std::isfinite(xs[i]) && std::isfinite(ys[i]) && ys[i] > 0) {
-            x.push_back(xs[i]);
-            y.push_back(ys[i]);
-          }
-        if (!x.empty()) p.series.push_back({x, y, m, plots::style_for(m, "linespoints")});
-      }
-      fig.panels.push_back(std::move(p));
-    }
+    for (const auto& M : measures)
+      fig.panels.push_back(cost_panel(T.d, T.tt, M, methods, M.label + ", " + T.group + " = " + g,
+                                      [&](std::size_t i, const std::string& m) { return T.in(i, m, g, horizon_value); }));
   fig.draw(stem);
 }
 
