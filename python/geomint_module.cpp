@@ -23,6 +23,7 @@
 #include "geomint/formula/formula_registry.hpp"
 #include "geomint/formula/model.hpp"
 #include "geomint/io.hpp"
+#include "geomint/modified/all_orders.hpp"
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/modified/formula_modified.hpp"
 #include "geomint/registry.hpp"
@@ -425,6 +426,18 @@ py::dict modified_formulas(const System& s, const std::string& scheme, int K, do
   return d;
 }
 
+// The modified equation to all orders of a linear system (modified::all_orders_linear): x' = G x on (q, p), and
+// q'' = A_v q' + A_q q, in double.
+py::dict all_orders(const System& s, const std::string& scheme, double h, const py::dict& params, const std::string& path) {
+  const auto r = modified::all_orders_linear(s.info(), param_values(params), scheme, h, parse_path(path));
+  auto as_double = [](const std::vector<long double>& v) { return std::vector<double>(v.begin(), v.end()); };
+  py::dict d;
+  d["G"] = to_array(as_double(r.G), 2 * r.n, 2 * r.n);
+  d["A_q"] = to_array(as_double(r.A_q), r.n, r.n);
+  d["A_v"] = to_array(as_double(r.A_v), r.n, r.n);
+  return d;
+}
+
 py::dict modified_agreement(const System& s, const std::string& scheme, int K, double h, double T, double tol,
                             const py::dict& params) {
   const ParamValues pv = param_values(params);
@@ -663,6 +676,10 @@ PYBIND11_MODULE(_geomint, m) {
       .def("modified_agreement", &modified_agreement, py::arg("scheme"), py::arg("order"), py::arg("h"), py::arg("T") = 0.0,
            py::arg("tol") = 1e-13, py::arg("params") = py::dict(),
            "step-by-step agreement of the discrete solution with the order-K modified solution")
+      .def("all_orders", &all_orders, py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(),
+           py::arg("path") = "fast",
+           "a linear system's modified equation to all orders: G = log(M)/h, the generator of the flow through every "
+           "step on (q, p), and q'' = A_v q' + A_q q with p eliminated")
       .def("__repr__", [](const System& s) {
         return "<geomint.System " + s.info().name + ": n = " + std::to_string(s.info().dof) + ", m = " +
                std::to_string(s.info().constraints) + (s.is_formula() ? ", from formulas>" : ">");

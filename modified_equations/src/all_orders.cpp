@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+#include <unsupported/Eigen/MatrixFunctions>
 
 #include "geomint/linear_oscillator.hpp"
 #include "geomint/registry.hpp"
@@ -43,6 +47,47 @@ AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha) 
   // the closed form's matrix in long double (row-major (q, p)): the coefficients keep their digits
   const auto M = find_system("oscillator").one_step_matrix({{"alpha", alpha}}, scheme, h, Path::fast);
   return all_orders_from_trace_det(M[0] + M[3], M[0] * M[3] - M[1] * M[2], h);
+}
+
+LinearModified all_orders_linear(const SystemInfo& sys, const ParamValues& pv, const std::string& scheme, double h,
+                                 Path path) {
+  using Mat = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+  const int n = sys.dof, N = 2 * n;
+  const std::vector<long double> m = sys.one_step_matrix(pv, scheme, h, path);  // InputError unless linear, m = 0
+  require(static_cast<int>(m.size()) == N * N, "system '" + sys.name + "' gives no one-step matrix");
+  Mat M(N, N);
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c) M(r, c) = m[static_cast<std::size_t>(r * N + c)];
+  const std::string where = "system " + sys.name + ", scheme " + scheme + ", h = " + show(h);
+  // a real eigenvalue <= 0: the principal logarithm is not real, and no real linear flow samples the steps
+  const Eigen::EigenSolver<Mat> eig(M, false);
+  for (int i = 0; i < N; ++i) {
+    const auto l = eig.eigenvalues()(i);
+    const long double scale = std::max<long double>(1, std::abs(l));
+    if (std::abs(l.imag()) <= 64 * std::numeric_limits<long double>::epsilon() * scale && l.real() <= 0)
+      throw NumericalFailure(0, "all orders",
+                             where + ": the one-step matrix has the real eigenvalue " + show(static_cast<double>(l.real())) +
+                                 " <= 0, so no real flow samples the steps");
+  }
+  const Mat G = Mat(M.log()) / static_cast<long double>(h);
+  if (!G.allFinite()) throw NumericalFailure(0, "all orders", where + ": the logarithm of the one-step matrix is not finite");
+  const Mat Gqq = G.topLeftCorner(n, n), Gqp = G.topRightCorner(n, n), Gpq = G.bottomLeftCorner(n, n),
+            Gpp = G.bottomRightCorner(n, n);
+  const Eigen::FullPivLU<Mat> lu(Gqp);
+  if (!lu.isInvertible())
+    throw NumericalFailure(0, "all orders", where + ": G_qp is singular, so p cannot be eliminated");
+  const Mat B = Gqp * Gpp * lu.inverse();
+  const Mat Av = Gqq + B, Aq = Gqp * Gpq - B * Gqq;
+  LinearModified r;
+  r.n = n;
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j < N; ++j) r.G.push_back(G(i, j));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      r.A_q.push_back(Aq(i, j));
+      r.A_v.push_back(Av(i, j));
+    }
+  return r;
 }
 
 double all_orders_deviation(const AllOrders& m, const std::vector<double>& t, const std::vector<double>& q) {

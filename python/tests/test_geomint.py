@@ -176,6 +176,23 @@ def test_relative_error_is_long_horizons(tmp_path):
         geomint.system("pendulum").work_precision(["la"], h=[0.1, 0.03], reps=1, relative_window=20)
 
 
+def test_all_orders_flow_passes_through_every_step():
+    # x' = G x, G = log(M)/h: exp(G t_j) x_0 (from G's eigenvectors) is the discrete (q_j, p_j) of la at every step
+    sys = geomint.system("coupled-oscillators")
+    ao = sys.all_orders("la", h=0.1, params={"T": 10})
+    run = sys.integrate("la", h=0.1, params={"T": 10})
+    x = np.hstack([run["q"], run["p"]])
+    lam, V = np.linalg.eig(ao["G"])
+    c = np.linalg.solve(V, x[0])
+    flow = np.real(np.array([V @ (np.exp(lam * t) * c) for t in run["t"]]))
+    assert np.max(np.abs(flow - x)) < 1e-12
+    # p eliminated: q'' = A_v q' + A_q q; at this h close to the continuous -K q - alpha q' (here within 0.02)
+    assert ao["A_q"].shape == (2, 2) and ao["A_v"].shape == (2, 2)
+    assert abs(ao["A_v"][0, 0] + 0.1) < 0.02
+    with pytest.raises(geomint.InputError):  # not a linear system
+        geomint.system("pendulum").all_orders("la", h=0.1)
+
+
 def test_work_precision_baselines_are_the_programs(tmp_path):
     # the module and the program run one study: the same errors, bit for bit, for schemes and baselines alike
     program("work_precision", "--system", "oscillator", "--T", 10, "--h-max", 0.1, "--h-min", 0.025, "--schemes", "la",

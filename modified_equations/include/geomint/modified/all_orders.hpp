@@ -10,6 +10,7 @@
 #include <string>
 
 #include "geomint/error.hpp"
+#include "geomint/registry.hpp"
 
 namespace geomint::modified {
 
@@ -33,5 +34,22 @@ double all_orders_deviation(const AllOrders& m, const std::vector<double>& t, co
 // The all-orders coefficients of any scheme of the registry's oscillator (by its name or an alias), from its
 // closed form's one-step matrix in long double. InputError for an unknown name.
 AllOrders all_orders_by_name(const std::string& scheme, double h, double alpha);
+
+// The same for any linear system without constraints and any of its schemes or compositions (n degrees of freedom).
+// The step is x_{j+1} = M x_j on x = (q, p) (a forcing term aside), so x_j = exp(G t_j) x_0 with G = log(M)/h, the
+// principal logarithm: the flow of x' = G x passes through every step, which makes x' = G x the modified equation to
+// all orders, wherever M has no real eigenvalue <= 0 (the logarithm is real there). Eliminating p (q' = G_qq q + G_qp p)
+// gives it in q alone, q'' = A_v q' + A_q q with B = G_qp G_pp G_qp^-1, A_v = G_qq + B, A_q = G_qp G_pq - B G_qq: the
+// sum of every h^k F_k of the automatic modified equation, which a truncation at K reaches to O(h^(K+1)). For n = 1,
+// A_v = tr G = -a_h and A_q = -det G = -b_h.
+struct LinearModified {
+  int n = 0;
+  std::vector<long double> G;      // 2n x 2n, row-major, on (q, p)
+  std::vector<long double> A_q, A_v;  // n x n, row-major
+};
+// InputError for a system that is not linear or has constraints (registry's one_step_matrix); NumericalFailure where
+// M has a real eigenvalue <= 0 or G_qp is singular (no modified equation in q alone).
+LinearModified all_orders_linear(const SystemInfo& sys, const ParamValues& pv, const std::string& scheme, double h,
+                                 Path path);
 
 }  // namespace geomint::modified
