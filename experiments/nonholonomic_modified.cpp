@@ -113,7 +113,8 @@ int main(int argc, char** argv) {
       const auto& r = runs[i];
       ModifiedAgreement a;
       try {
-        a = find_modified_system(r.system).agreement(sysopt.values(r.system), r.scheme, r.K, r.h, sysopt.value(r.system, "T"), tol);
+        a = find_modified_system(r.system).agreement(sysopt.values(r.system), r.scheme, r.K, r.h, sysopt.value(r.system, "T"), tol,
+                                                           AgreementStart::shooting);
       } catch (const NumericalFailure& e) {
         std::fprintf(stderr, "%s %s K=%d h=%g: %s (NaN row)\n", r.system.c_str(), r.scheme.c_str(), r.K, r.h, e.what());
         a.err_q = a.err_mu = a.phi_d = a.phi_h0 = a.phi_h_drift = missing_value;

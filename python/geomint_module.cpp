@@ -439,15 +439,16 @@ py::dict all_orders(const System& s, const std::string& scheme, double h, const 
 }
 
 py::dict modified_agreement(const System& s, const std::string& scheme, int K, double h, double T, double tol,
-                            const py::dict& params) {
+                            const py::dict& params, const std::string& start) {
   const ParamValues pv = param_values(params);
+  const auto st = modified::parse_agreement_start(start);
   modified::modified_scheme(s.info(), scheme);
   if (!(T > 0)) T = s.info().horizon(pv);
   const auto& ms = s.modified();
   modified::ModifiedAgreement a;
   {
     py::gil_scoped_release release;
-    a = ms.agreement(pv, scheme, K, h, T, tol);
+    a = ms.agreement(pv, scheme, K, h, T, tol, st);
   }
   py::dict d;
   d["steps"] = a.steps;
@@ -674,8 +675,9 @@ PYBIND11_MODULE(_geomint, m) {
       .def("modified_formulas", &modified_formulas, py::arg("scheme"), py::arg("order") = 4, py::arg("budget") = 60.0,
            py::arg("params") = py::dict(), "the modified equation as formulas (text, Mathematica, LaTeX), every parameter a symbol")
       .def("modified_agreement", &modified_agreement, py::arg("scheme"), py::arg("order"), py::arg("h"), py::arg("T") = 0.0,
-           py::arg("tol") = 1e-13, py::arg("params") = py::dict(),
-           "step-by-step agreement of the discrete solution with the order-K modified solution")
+           py::arg("tol") = 1e-13, py::arg("params") = py::dict(), py::arg("start") = "shooting",
+           "step-by-step agreement of the discrete solution with the order-K modified solution, started by shooting "
+           "(q~(h) = q_1) or naive (v~(0) = v_0)")
       .def("all_orders", &all_orders, py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(),
            py::arg("path") = "fast",
            "a linear system's modified equation to all orders: G = log(M)/h, the generator of the flow through every "

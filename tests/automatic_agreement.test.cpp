@@ -21,7 +21,7 @@ struct Fits {
 Fits fits(const std::string& system, const std::string& scheme, int K, double h0, double alpha) {
   std::vector<double> hs, eq, em, ed, e0;
   for (double h : {h0, h0 / 2, h0 / 4}) {
-    const auto a = find_modified_system(system).agreement({{"alpha", alpha}}, scheme, K, h, 2.0, 1e-13);
+    const auto a = find_modified_system(system).agreement({{"alpha", alpha}}, scheme, K, h, 2.0, 1e-13, AgreementStart::shooting);
     hs.push_back(h);
     eq.push_back(a.err_q);
     em.push_back(a.err_mu);

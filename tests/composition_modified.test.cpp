@@ -307,7 +307,7 @@ TEST_CASE("discrete solutions of compositions follow their truncated modified eq
                         Case{"knife-edge", "yoshida4:la-midpoint", 4, 0.1}}) {
     std::vector<double> hs, eq, em, ed;
     for (double h : {c.h0, c.h0 / 2, c.h0 / 4}) {
-      const auto a = find_modified_system(c.system).agreement({{"alpha", 0.5}}, c.scheme, c.K, h, 2.0, 1e-13);
+      const auto a = find_modified_system(c.system).agreement({{"alpha", 0.5}}, c.scheme, c.K, h, 2.0, 1e-13, AgreementStart::shooting);
       hs.push_back(h);
       eq.push_back(a.err_q);
       em.push_back(a.err_mu);

@@ -216,6 +216,40 @@ ParamValues SystemsOptions::values(const std::string& system) const {
   return pv;
 }
 
+std::vector<ParamValues> SystemsOptions::combinations(const std::string& system) const {
+  const SystemInfo& sys = find_system(system);
+  std::vector<ParamValues> combos{{}};
+  for (const auto& p : sys.params) {
+    const auto i = static_cast<std::size_t>(std::find(params_.begin(), params_.end(), p.name) - params_.begin());
+    std::vector<double> vals;
+    if (i < params_.size() && !given_[i].empty()) {
+      vals = given_[i];
+    } else {
+      for (const auto& [k, v] : presets_)
+        if (k == p.name) vals = {v};
+    }
+    if (vals.empty()) continue;
+    std::vector<ParamValues> next;
+    for (const auto& c : combos)
+      for (double v : vals) {
+        ParamValues pv = c;
+        pv.emplace_back(p.name, v);
+        next.push_back(std::move(pv));
+      }
+    combos = std::move(next);
+  }
+  require(combos.size() <= 10000, "the sweep has " + std::to_string(combos.size()) + " combinations (limit 10000)");
+  for (const auto& c : combos) sys.validate(c);
+  return combos;
+}
+
+std::vector<std::string> SystemsOptions::swept() const {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < params_.size(); ++i)
+    if (given_[i].size() > 1) out.push_back(params_[i]);
+  return out;
+}
+
 double SystemsOptions::value(const std::string& system, const std::string& param) const {
   return param_value(values(system), find_system(system), param);
 }

@@ -9,6 +9,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "geomint/linear_oscillator.hpp"
+#include "geomint/modified/automatic_registry.hpp"
 #include "geomint/registry.hpp"
 
 namespace geomint::modified {
@@ -100,6 +101,70 @@ double all_orders_deviation(const AllOrders& m, const std::vector<double>& t, co
   for (size_t j = 0; j < q.size(); ++j)
     dev = std::max(dev, std::abs(q[j] - linear_oscillator_solution(m.a, m.b, q[0], v0, t[j]).q));
   return dev;
+}
+
+double linear_flow_deviation(const LinearModified& lm, const Run& run) {
+  using Mat = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+  using Vec = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
+  const int n = lm.n, N = 2 * n;
+  require(run.n == n && run.m == 0, "linear_flow_deviation: the run is not of this system");
+  const std::size_t J = run.t.size();
+  if (J < 2) return missing_value;
+  Mat G(N, N);
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c) G(r, c) = lm.G[static_cast<std::size_t>(r * N + c)];
+  auto x = [&](std::size_t j) {
+    Vec v(N);
+    for (int i = 0; i < n; ++i) {
+      v(i) = run.q[j * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)];
+      v(n + i) = run.p[j * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)];
+    }
+    return v;
+  };
+  const Vec x0 = x(0);
+  auto flow = [&](double t) { return Vec(Mat((G * static_cast<long double>(t)).exp()) * x0); };
+  // affine steps (a forcing term): some step leaves the homogeneous one-step map by far more than round-off
+  const Mat step = (G * static_cast<long double>(run.t[1] - run.t[0])).exp();
+  for (std::size_t j = 0; j + 1 < J; ++j) {
+    const Vec xj = x(j);
+    if ((step * xj - x(j + 1)).cwiseAbs().maxCoeff() > 1e-9L * (1 + xj.cwiseAbs().maxCoeff())) return missing_value;
+  }
+  double dev = 0;
+  for (std::size_t j = 0; j < J; ++j) {
+    const Vec y = flow(run.t[j]), xj = x(j);
+    dev = std::max(dev, static_cast<double>((y.head(n) - xj.head(n)).cwiseAbs().maxCoeff()));
+  }
+  return dev;
+}
+
+LinearSeries linear_series(const SystemInfo& sys, const ParamValues& pv, const std::string& scheme, int K, double h) {
+  const ModifiedSystem& ms = find_modified_system(sys.name);
+  const int n = sys.dof;
+  require(sys.linear && sys.constraints == 0, "system '" + sys.name + "' is not linear and unconstrained");
+  const std::vector<double> zero(static_cast<std::size_t>(n), 0.0);
+  const auto base = ms.at(pv, scheme, K, 0.0, zero, zero, 0.0, false);
+  // sum_k h^k F_k(q, v) at one point
+  auto sum = [&](const ModifiedPoint& p, int i) {
+    double s = 0;
+    for (int k = K; k >= 0; --k) s = s * h + p.F_at(k, i);
+    return s;
+  };
+  LinearSeries r;
+  r.n = n;
+  r.K = K;
+  r.A_q.assign(static_cast<std::size_t>(n * n), 0.0);
+  r.A_v.assign(static_cast<std::size_t>(n * n), 0.0);
+  for (int c = 0; c < n; ++c) {
+    std::vector<double> e = zero;
+    e[static_cast<std::size_t>(c)] = 1;
+    const auto pq = ms.at(pv, scheme, K, 0.0, e, zero, 0.0, false);
+    const auto pvv = ms.at(pv, scheme, K, 0.0, zero, e, 0.0, false);
+    for (int i = 0; i < n; ++i) {
+      r.A_q[static_cast<std::size_t>(i * n + c)] = sum(pq, i) - sum(base, i);
+      r.A_v[static_cast<std::size_t>(i * n + c)] = sum(pvv, i) - sum(base, i);
+    }
+  }
+  return r;
 }
 
 }  // namespace geomint::modified

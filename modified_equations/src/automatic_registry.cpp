@@ -36,10 +36,19 @@ double modified_cost_factor(const SystemInfo& sys, const std::string& scheme) {
   return 4.0 * generic::find_composition_family(generic::parse_composition_name(scheme).family).stages();
 }
 
-int expected_agreement_slope(const SystemInfo& sys, const std::string& scheme, int K) {
+int expected_agreement_slope(const SystemInfo& sys, const std::string& scheme, int K, AgreementStart start) {
   const int p = sys.scheme(scheme).order;
-  if (p % 2 != 0) return K + 1;
-  return std::max(p, K + 1 + (K % 2 == 0 ? 1 : 0));
+  const int consistent = p % 2 != 0 ? K + 1 : std::max(p, K + 1 + (K % 2 == 0 ? 1 : 0));
+  // the naive start's velocity is off by O(h^p), which the whole run carries
+  return start == AgreementStart::naive ? std::min(consistent, p) : consistent;
+}
+
+const char* start_name(AgreementStart s) { return s == AgreementStart::naive ? "naive" : "shooting"; }
+
+AgreementStart parse_agreement_start(const std::string& name) {
+  if (name == "shooting") return AgreementStart::shooting;
+  if (name == "naive") return AgreementStart::naive;
+  throw InputError("unknown start '" + name + "' (known: shooting, naive)");
 }
 
 const SchemeInfo& formula_scheme(const SystemInfo& sys, const std::string& name) {

@@ -291,6 +291,21 @@ def test_modified_equation_is_the_program(tmp_path):
         same_text(me["F"][:, 0], table["value"][keep])
 
 
+def test_modified_agreement_is_the_program_for_both_starts(tmp_path):
+    program("modified_agreement", "--systems", "pendulum", "--schemes", "la", "--orders", 0, 1, "--T", 1, "--h-max", 0.1,
+            "--halvings", 2, "--start", "shooting", "naive", "--threads", 1, out=tmp_path)
+    table = geomint.read_tsv(tmp_path / "pendulum_modified_agreement.tsv")
+    sys = geomint.system("pendulum")
+    for start in ("shooting", "naive"):
+        for K in (0, 1):
+            keep = (table["start"] == start) & (table["K"] == K)
+            errs = [sys.modified_agreement("la", K, h, T=1, params={"alpha": 0.5}, start=start)["err_q"]
+                    for h in table["h"][keep]]
+            same_text(errs, table["err_modified"][keep])
+    with pytest.raises(geomint.InputError, match="unknown start 'euler'"):
+        sys.modified_agreement("la", 1, 0.1, start="euler")
+
+
 def test_modified_equation_of_the_formula_file_is_the_headers():
     header = geomint.system("pendulum").modified_equation("contact", order=4, q=[0.4], v=[-0.2], z=0.1, params={"alpha": 0.3})
     formula = geomint.load_system(system_file("pendulum")).modified_equation(

@@ -54,6 +54,11 @@ class SystemsOptions {
   ParamValues values(const std::string& system) const;
   // The value the system runs with: given, preset, or its own default.
   double value(const std::string& system, const std::string& param) const;
+  // For a program that sweeps: every combination of the values given for `system`'s parameters (several values
+  // for one parameter sweep it), presets and defaults elsewhere, each validated; values() refuses a sweep.
+  std::vector<ParamValues> combinations(const std::string& system) const;
+  // The parameters given more than one value, in option order.
+  std::vector<std::string> swept() const;
   // Header lines: the systems, and every parameter given or preset with its value.
   std::vector<std::pair<std::string, std::string>> header() const;
 

@@ -52,4 +52,19 @@ struct LinearModified {
 LinearModified all_orders_linear(const SystemInfo& sys, const ParamValues& pv, const std::string& scheme, double h,
                                  Path path);
 
+// max_j |q_j - (exp(G t_j) x_0)_q| over a run of the same scheme and h, x_0 = (q_0, p_0), each exponential taken
+// afresh (not by powers): round-off where the flow of x' = G x passes through the steps. Missing when the steps are
+// affine rather than linear (a forcing term): a step leaves the homogeneous map exp(G h) by more than 1e-9 relative,
+// far above round-off and far below any forcing that shows.
+double linear_flow_deviation(const LinearModified& lm, const Run& run);
+
+// The truncated series' A_q, A_v: sum_{k <= K} h^k of the Jacobians of F_k in q and q' (exact differences, F_k
+// being affine in (q, q') for a linear system), from the automatic modified equation of `scheme`. A linear system
+// only (the caller's check: the differences are not Jacobians otherwise).
+struct LinearSeries {
+  int n = 0, K = 0;
+  std::vector<double> A_q, A_v;  // n x n, row-major
+};
+LinearSeries linear_series(const SystemInfo& sys, const ParamValues& pv, const std::string& scheme, int K, double h);
+
 }  // namespace geomint::modified

@@ -31,13 +31,21 @@ struct ModifiedPoint {
   double F_at(int k, int i) const { return F[static_cast<std::size_t>(k * n + i)]; }
 };
 
+// How the modified solution starts. shooting: q~(0) = q_0 and q~(h) = q_1, by shooting on v~(0) (consistent at every
+// order K). naive: v~(0) = v_0, the system's initial velocity; it differs from the consistent one by O(h^p) for a
+// scheme of order p, so it caps the agreement at h^p whatever K (and at K = 0 it is the original equation from the
+// exact initial data).
+enum class AgreementStart { shooting, naive };
+const char* start_name(AgreementStart s);
+AgreementStart parse_agreement_start(const std::string& name);  // InputError for another name
+
 // Step-by-step agreement of a discrete solution with the solution of its order-K modified equation.
 struct ModifiedAgreement {
   long steps = 0;
   double err_q = 0;        // max_j |q_j - q~(t_j)| (max over components)
   double err_z = 0;        // max_j |z_j - z~(t_j)| (contact; NaN otherwise)
-  double v_shift = 0;      // |v~(0) - v(0)|: what the consistent (shooting) start moved the velocity by
-  double shoot_miss = 0;   // |q~(h) - q_1| after shooting
+  double v_shift = 0;      // |v~(0) - v(0)|: what the consistent (shooting) start moved the velocity by (0 for naive)
+  double shoot_miss = 0;   // |q~(h) - q_1| after shooting (NaN for naive)
   double phi_d = 0;        // max_j |Phi_d(q~(t_j), q~(t_{j+1}))| along the modified solution (constrained)
   double phi_h0 = 0;       // |Phi_h^[K](x~(0))|: the modified constraint (truncated) at the start
   double phi_h_drift = 0;  // max_j |Phi_h^[K](x~(t_j)) - Phi_h^[K](x~(0))|
@@ -74,10 +82,10 @@ struct ModifiedSystem {
   ModifiedPoint (*at)(const ParamValues&, const std::string& scheme, int K, double t, const std::vector<double>& q,
                       const std::vector<double>& v, double z, bool check) = nullptr;
   // The discrete solution (generic Newton step in long double, from the system's initial data, N = T/h steps)
-  // against the order-K modified solution (Boost.Odeint dopri5, dense output, tolerance tol) started
-  // consistently: q~(0) = q_0 and q~(h) = q_1 by shooting on v~(0) (z~(0) = z_0 = 0).
-  ModifiedAgreement (*agreement)(const ParamValues&, const std::string& scheme, int K, double h, double T,
-                                 double tol) = nullptr;
+  // against the order-K modified solution (Boost.Odeint dopri5, dense output, tolerance tol) started as `start`
+  // says (z~(0) = z_0 = 0).
+  ModifiedAgreement (*agreement)(const ParamValues&, const std::string& scheme, int K, double h, double T, double tol,
+                                 AgreementStart start) = nullptr;
   // The shooting start alone: v~(0) with q~(0) = q_0, q~(h) = q_1.
   std::vector<double> (*shoot)(const ParamValues&, const std::string& scheme, int K, double h, double tol) = nullptr;
   // The modified equation of `scheme` as formulas to order K, every parameter a symbol (ModifiedFormulas::values
@@ -103,6 +111,8 @@ double modified_cost_factor(const SystemInfo& sys, const std::string& scheme);
 // The slope at which a discrete solution of `scheme` approaches its order-K modified solution: the first h^k
 // beyond K whose F_k may be nonzero — K + 1 for a first-order scheme; for a symmetric one of order p (the odd F_k
 // vanish, and F_1 .. F_{p-1} too) the least even k > K, and at least p.
-int expected_agreement_slope(const SystemInfo& sys, const std::string& scheme, int K);
+// With the naive start, at most p (the scheme's order).
+int expected_agreement_slope(const SystemInfo& sys, const std::string& scheme, int K,
+                             AgreementStart start = AgreementStart::shooting);
 
 }  // namespace geomint::modified

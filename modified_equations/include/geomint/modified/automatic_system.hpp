@@ -225,7 +225,8 @@ Discrete<Sys, G> discrete_run(const Sys& sys, const Family* family, double h, lo
 }
 
 template <class Sys, class G>
-ModifiedAgreement agreement_run(const Sys& sys, const Family* family, int K, double h, double T, double tol) {
+ModifiedAgreement agreement_run(const Sys& sys, const Family* family, int K, double h, double T, double tol,
+                                AgreementStart start) {
   constexpr int n = Sys::dof, m = Sys::constraints;
   using Q = typename G::quadrature;
   const long N = step_count(h, T);
@@ -233,7 +234,9 @@ ModifiedAgreement agreement_run(const Sys& sys, const Family* family, int K, dou
   a.steps = N;
   const Engine<Sys, G> me = engine<Sys, G>(sys, family);
   const auto d = discrete_run<Sys, G>(sys, family, h, N);
-  const Vec<double, n> v0 = shoot_velocity(me, K, h, d.q[0], d.v0, d.z[0], d.q[1], tol, &a.shoot_miss);
+  a.shoot_miss = nan;
+  const Vec<double, n> v0 =
+      start == AgreementStart::naive ? d.v0 : shoot_velocity(me, K, h, d.q[0], d.v0, d.z[0], d.q[1], tol, &a.shoot_miss);
   a.v_shift = (v0 - d.v0).template lpNorm<Eigen::Infinity>();
   std::vector<double> times(static_cast<std::size_t>(N + 1));
   for (long j = 0; j <= N; ++j) times[static_cast<std::size_t>(j)] = static_cast<double>(j) * h;
@@ -310,12 +313,13 @@ ModifiedSystem make_modified_system() {
     return detail::visit_modified_scheme<Sys>(
         scheme, [&](auto g, const detail::Family* f) { return detail::point<Sys, decltype(g)>(sys, f, K, t, Q, V, z, check); });
   };
-  s.agreement = [](const ParamValues& pv, const std::string& scheme, int K, double h, double T, double tol) {
+  s.agreement = [](const ParamValues& pv, const std::string& scheme, int K, double h, double T, double tol,
+                   AgreementStart start) {
     const Sys sys = generic::make_system<Sys>(pv);
     sys.validate();
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
     return detail::visit_modified_scheme<Sys>(
-        scheme, [&](auto g, const detail::Family* f) { return detail::agreement_run<Sys, decltype(g)>(sys, f, K, h, T, tol); });
+        scheme, [&](auto g, const detail::Family* f) { return detail::agreement_run<Sys, decltype(g)>(sys, f, K, h, T, tol, start); });
   };
   s.shoot = [](const ParamValues& pv, const std::string& scheme, int K, double h, double tol) {
     const Sys sys = generic::make_system<Sys>(pv);
