@@ -27,7 +27,6 @@ if os.environ.get("PROBE_PROGS"):
 # base arguments that make an accepted run short (the probed option overrides its base entry)
 BASE = {
     "anomaly_foucault": ["--runs", "2", "--T", "10", "--h", "0.1", "--alpha", "1e-3"],
-    "backward_error": ["--T", "5"],
     "bench_compose": ["--reps", "3", "--steps", "100"],
     "bench_ensembles": ["--reps", "3"],
     "bench_formula": ["--reps", "3", "--systems", DOCS],
@@ -352,7 +351,6 @@ SPECIAL = [
     ("regularized_error", ["--T", "1e10"]),
     ("modified_cost", ["--seconds", "10", "--reps", "100"]),
     ("convergence", ["--system", "foucault", "--T", "1e7"]),
-    ("backward_error", ["--T", "1e6"]),
     ("modified_agreement", ["--T", "1e7"]),
     ("nonholonomic_modified", ["--T", "1e8"]),
     ("anomaly_foucault", ["--runs", "1000000", "--no-budget"]),
