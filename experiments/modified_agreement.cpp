@@ -65,7 +65,8 @@ int main(int argc, char** argv) {
     unsigned threads = default_threads();
     std::vector<std::string> start_names{"shooting"};
     bool all_orders = false;
-    Cli cli("modified_agreement", "discrete solutions against their order-K automatic modified equations, K = 0..4");
+    Cli cli("modified_agreement", "discrete solutions against their order-K automatic modified equations, K = 0..4 "
+                                      "(several values of a system parameter sweep it)");
     SystemsOptions sysopt(cli, argc, argv, systems, {{"alpha", 0.5}, {"T", 2}});
     cli.options.add_options()(
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact la-trapezoid"), "schemes")(
