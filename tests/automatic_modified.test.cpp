@@ -13,7 +13,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "geomint/generic/system.hpp"
-#include "geomint/modified/agreement.hpp"
+#include "paper/agreement.hpp"
 #include "geomint/modified/all_orders.hpp"
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/study.hpp"

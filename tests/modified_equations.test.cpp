@@ -5,10 +5,10 @@
 
 #include <random>
 
-#include "geomint/modified/agreement.hpp"
+#include "paper/agreement.hpp"
 #include "geomint/modified/all_orders.hpp"
-#include "geomint/modified/equations.hpp"
-#include "geomint/modified/lagrangians.hpp"
+#include "paper/equations.hpp"
+#include "paper/lagrangians.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/systems/oscillator.hpp"
 #include "geomint/study.hpp"

@@ -1,4 +1,4 @@
-#include "geomint/modified/agreement.hpp"
+#include "agreement.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <gsl/gsl_odeiv2.h>
 
 #include "geomint/error.hpp"
-#include "geomint/modified/equations.hpp"
-#include "geomint/modified/lagrangians.hpp"
+#include "equations.hpp"
+#include "lagrangians.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/reference.hpp"
 
