@@ -74,6 +74,9 @@ int main(int argc, char** argv) {
     Params params = sysopt.header();
     params.insert(params.end(), {{"h", format_list(hs)}, {"path", to_string(path)}, {"reference", ref_name},
                                  {"tol", format_number(tol)}, {"norm", to_string(norm)},
+                                 {"fit_band", "errors above the reference's floor (round-off 1e-13 against a closed form, " +
+                                                  format_number(reference_floor_factor) +
+                                                  " x tol against Odeint) and below the solution's size max|q_ref|"},
                                  {"error", norm == ErrorNorm::max ? "max_j max_i |q_i(t_j) - q_ref,i(t_j)|"
                                                                   : "max_j |q(t_j) - q_ref(t_j)| (Euclidean)"}});
     for (const auto& m : study.measures) params.push_back({m.name, m.doc});
@@ -108,8 +111,14 @@ int main(int argc, char** argv) {
         auto r = row;
         r.insert(r.end(), {format_cell(se.fit.slope), std::to_string(se.fit.points), std::to_string(se.expected_order)});
         fits.write_row(r);
-        std::printf("  %-*s %-*sfitted order %6.3f  err(h=%g) = %.3e\n    asymptotic range: %s\n", width,
-                    se.scheme.c_str(), label.empty() ? 0 : 25, label.c_str(), se.fit.slope, hs.front(), se.err.front(), se.asymptotic.describe().c_str());
+        char order[96];
+        if (std::isfinite(se.fit.slope))
+          std::snprintf(order, sizeof order, "fitted order %6.3f", se.fit.slope);
+        else  // the rule's at least three points are not there: no number passed off as an order
+          std::snprintf(order, sizeof order, "no fitted order (%d point%s in the band)", se.fit.points,
+                        se.fit.points == 1 ? "" : "s");
+        std::printf("  %-*s %-*s%s  err(h=%g) = %.3e\n    asymptotic range: %s\n", width, se.scheme.c_str(),
+                    label.empty() ? 0 : 25, label.c_str(), order, hs.front(), se.err.front(), se.asymptotic.describe().c_str());
       }
     }
     tsv.commit();
@@ -122,7 +131,8 @@ int main(int argc, char** argv) {
     fig.rows = static_cast<int>((combos.size() + 3) / 4);
     fig.width_in = 4.4 * fig.cols;
     fig.height_in = 4.2 * fig.rows;
-    for (const auto& pv : combos) {
+    for (std::size_t c = 0; c < combos.size(); ++c) {
+      const ParamValues& pv = combos[c];
       auto same = [&](std::size_t r) {
         for (const auto& s : swept)
           if (t.number(r, s) != param_value(pv, sys, s)) return false;
@@ -133,10 +143,12 @@ int main(int argc, char** argv) {
       plots::Panel p;
       p.setup = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'h'\nset ylabel 'max error in q'\n"
                 "set key bottom right font ',8'\nset title '" + (title.empty() ? sys.name : title) + "'\n";
-      for (const auto& name : schemes) {
+      for (std::size_t si = 0; si < S; ++si) {
+        const std::string& name = schemes[si];
         auto keep = [&](std::size_t r) { return t.text(r, "scheme") == name && same(r); };
         const auto x = t.numbers("h", keep), y = t.numbers("err_max", keep);
-        p.series.push_back({x, y, plots::slope_label(name, fit_order(x, y).slope), plots::style_for(name, "linespoints")});
+        p.series.push_back({x, y, plots::slope_label(name, fit_order(x, y, study.series[c * S + si].band).slope),
+                            plots::style_for(name, "linespoints")});
       }
       fig.panels.push_back(std::move(p));
     }

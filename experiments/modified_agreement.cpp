@@ -147,6 +147,7 @@ int main(int argc, char** argv) {
                         {"orders", format_list(order_values)}, {"h_max", format_list(h_max)},
                         {"halvings", std::to_string(halvings)}, {"start", join_names(start_names)},
                         {"tol", format_number(tol)}, {"fit_floor", format_number(floor)},
+                        {"fit_ceiling", "the size of the solution, max|q_ref| (an error above it has blown up)"},
                         {"discrete", "generic Newton step, long double, the parameters above, else the system's defaults"},
                         {"modified", "automatic (series through the residual), Odeint dopri5 dense, shooting start"}});
     // Every (system, scheme, K, h) run is independent: under mpirun the runs are shared across ranks
@@ -274,6 +275,21 @@ int main(int argc, char** argv) {
       const auto& info = find_system(s);
       for (std::size_t ci = 0; ci < combos[si].size(); ++ci) {
         const auto sc = swept_cells(si, ci);
+        // The fits' band: above the floor, below the size of the solution (a run whose error is as large as the
+        // solution has blown up: its slope is no order). The size from the system's reference on the finest h.
+        FitBand band{floor};
+        {
+          const ParamValues& pv = combos[si][ci];
+          const double T = param_value(pv, info, "T");
+          double h = h_max.front();
+          for (std::size_t ki = 0; ki < orders.size(); ++ki) h = std::min(h, steps_of(ki).back());
+          try {
+            band = fit_band(false, tol, solution_size(info.reference(pv, h, step_count(h, T), ReferenceKind::automatic, tol),
+                                                      ErrorNorm::max));
+          } catch (const NumericalFailure& f) {
+            report_missing(s + swept_text(si, ci) + " (the fits' ceiling: no reference)", f.what());
+          }
+        }
         for (const auto& x : schemes) {
           plots::Panel p;
           p.setup = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'h'\nset ylabel 'max error in q'\n"
@@ -293,14 +309,17 @@ int main(int argc, char** argv) {
               };
               const auto hh = t.numbers("h", keep);
               const auto ee = t.numbers("err_modified", keep);
-              const auto f = fit_order(hh, ee, floor);
+              const auto f = fit_order(hh, ee, band);
               const int expect = expected_agreement_slope(info, x, K, st);
               std::vector<std::string> cells{s, x};
               cells.insert(cells.end(), sc.begin(), sc.end());
               cells.insert(cells.end(), {start_name(st), std::to_string(K), format_cell(f.slope), std::to_string(expect),
                                          std::to_string(f.points)});
               fits.write_row(cells);
-              std::printf("  %5.2f [%d]  ", f.slope, expect);
+              if (std::isfinite(f.slope))
+                std::printf("  %5.2f [%d]  ", f.slope, expect);
+              else  // fewer than three points in the band: no slope to show
+                std::printf("  -%dpt [%d]  ", f.points, expect);
               // the naive start dashed, open points
               const bool naive = st == AgreementStart::naive;
               const std::string label =

@@ -3,7 +3,9 @@
 #include <cmath>
 
 #include "geomint/error.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/study.hpp"
+#include "geomint/sweep.hpp"
 
 using namespace geomint;
 
@@ -75,4 +77,56 @@ TEST_CASE("the asymptotic-range rule: an order where the local orders agree, pre
     CHECK(a.slope == Approx(2).epsilon(1e-12));
   }
   CHECK(asymptotic_order({0.1, 0.05}, {1e-3, std::nan("")}).status == AsymptoticOrder::Status::too_few_points);
+}
+
+TEST_CASE("a fit reads only the band: above the reference's floor and below blow-up, at least three points",
+          "[study][asymptotic][band]") {
+  const auto hs = halving_sequence(0.2, 0.003);  // 0.2 ... 0.003125: seven points
+  std::vector<double> e;
+  for (double h : hs) e.push_back(0.3 * std::pow(h, 4));
+  // the coarsest run blew up (what a composition at too large a step does): with it the least-squares slope of
+  // all finite points is far from any order; the band drops it
+  e.front() = 1e112;
+  CHECK(fit_order(hs, e).slope > 12);
+  const FitBand band = fit_band(false, 1e-13, 1.0);  // Odeint at 1e-13, a solution of size 1
+  CHECK(band.floor == 1e-11);
+  const auto f = fit_order(hs, e, band);
+  CHECK(f.points == 6);
+  CHECK(f.slope == Approx(4).epsilon(1e-12));
+  const auto a = asymptotic_order(hs, e, band);
+  CHECK(a.asymptotic());
+  CHECK(a.slope == Approx(4).epsilon(1e-12));
+  CHECK(a.dropped == 1);
+  CHECK(a.describe().find("1 point outside") != std::string::npos);
+  // the finest points at the reference's floor: only two left, so no order, and the report says so
+  std::vector<double> g{1e-3, 3e-6, 5e-8, 1.2e-13, 0.9e-13, 1.1e-13, 1e-13};
+  CHECK(std::isnan(fit_order(hs, g, band).slope));
+  CHECK(fit_order(hs, g, band).points == 2);
+  const auto b = asymptotic_order(hs, g, band);
+  CHECK_FALSE(b.asymptotic());
+  // against a closed form the floor is round-off
+  CHECK(fit_band(true, 1e-13, 1.0).floor == 1e-13);
+}
+
+TEST_CASE("convergence on the pendulum: no order fitted through the Odeint reference's floor", "[study][band]") {
+  // yoshida6a:contact-trapezoid reaches the reference's 1e-13 accuracy by h = 0.025: its four finest errors read the
+  // reference. A fit through them reported order 2.60 for a sixth-order method; only two points lie above the floor
+  // (100 tol), so there is no order at these h, and the series says so.
+  const SystemInfo& sys = find_system("pendulum");
+  const auto hs = halving_sequence(0.1, 0.003);
+  const auto study = convergence_study(sys, {{}}, {"yoshida6a:contact-trapezoid"}, hs, Path::fast,
+                                       ReferenceKind::automatic, 1e-13, Sweep::world());
+  REQUIRE(study.series.size() == 1);
+  const auto& se = study.series.front();
+  CHECK(se.band.floor == Approx(1e-11));
+  int above = 0;
+  for (double x : se.err) above += x > se.band.floor;
+  INFO("errors: " << se.err[0] << " " << se.err[1] << " " << se.err[2] << " " << se.err[3] << " " << se.err[4] << " "
+                  << se.err[5] << "; " << se.asymptotic.describe());
+  CHECK(above < 3);
+  CHECK(se.fit.points == above);
+  CHECK(std::isnan(se.fit.slope));
+  CHECK_FALSE(se.asymptotic.asymptotic());
+  // the coarse points that are above the floor fall at the method's sixth order
+  CHECK(std::log(se.err[0] / se.err[1]) / std::log(2.0) == Approx(6).margin(0.3));
 }

@@ -14,11 +14,40 @@
 
 namespace geomint {
 
+std::string FitBand::describe() const {
+  return "errors in (" + format_number(floor) + ", " + format_number(ceiling) + ")";
+}
+
+FitBand fit_band(bool exact_reference, double tol, double size) {
+  FitBand b;
+  if (!exact_reference) b.floor = reference_floor_factor * tol;
+  if (std::isfinite(size) && size > 0) b.ceiling = size;
+  return b;
+}
+
+double solution_size(const Reference& ref, ErrorNorm norm) {
+  double size = 0;
+  const std::size_t n = static_cast<std::size_t>(ref.n);
+  for (std::size_t j = 0; j * n < ref.q.size(); ++j) {
+    double r = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = ref.q[j * n + i];
+      r = norm == ErrorNorm::max ? std::max(r, std::abs(x)) : std::hypot(r, x);
+    }
+    size = std::max(size, r);
+  }
+  return size;
+}
+
 OrderFit fit_order(const std::vector<double>& h, const std::vector<double>& err, double floor) {
+  return fit_order(h, err, FitBand{floor});
+}
+
+OrderFit fit_order(const std::vector<double>& h, const std::vector<double>& err, const FitBand& band) {
   require(h.size() == err.size(), "fit_order: h and err differ in length");
   std::vector<double> x, y;
   for (size_t i = 0; i < h.size(); ++i) {
-    if (std::isfinite(err[i]) && err[i] > floor && h[i] > 0) {
+    if (band.holds(err[i]) && h[i] > 0) {
       x.push_back(std::log(h[i]));
       y.push_back(std::log(err[i]));
     }
@@ -52,13 +81,21 @@ std::vector<double> halving_sequence(double h0, double h_min) {
 
 AsymptoticOrder asymptotic_order(const std::vector<double>& h, const std::vector<double>& err, double spread,
                                  double floor) {
+  return asymptotic_order(h, err, FitBand{floor}, spread);
+}
+
+AsymptoticOrder asymptotic_order(const std::vector<double>& h, const std::vector<double>& err, const FitBand& band,
+                                 double spread) {
   require(h.size() == err.size(), "asymptotic_order: h and err differ in length");
   AsymptoticOrder a;
+  a.band = band;
   std::vector<double> x, y;  // the usable points, in the given order (coarse to fine)
   for (std::size_t i = 0; i < h.size(); ++i)
-    if (std::isfinite(err[i]) && err[i] > floor && h[i] > 0) {
+    if (band.holds(err[i]) && h[i] > 0) {
       x.push_back(h[i]);
       y.push_back(err[i]);
+    } else if (std::isfinite(err[i])) {
+      ++a.dropped;
     }
   if (x.size() < 2) return a;
   for (std::size_t k = 1; k < x.size(); ++k) a.local_orders.push_back(std::log(y[k - 1] / y[k]) / std::log(x[k - 1] / x[k]));
@@ -80,7 +117,7 @@ AsymptoticOrder asymptotic_order(const std::vector<double>& h, const std::vector
   if (a.points >= 3) {
     a.status = AsymptoticOrder::Status::asymptotic;
     a.slope = fit_order(std::vector<double>(x.begin() + static_cast<long>(first), x.end()),
-                        std::vector<double>(y.begin() + static_cast<long>(first), y.end()), floor)
+                        std::vector<double>(y.begin() + static_cast<long>(first), y.end()), band)
                   .slope;
   } else {
     a.status = AsymptoticOrder::Status::pre_asymptotic;
@@ -91,31 +128,35 @@ AsymptoticOrder asymptotic_order(const std::vector<double>& h, const std::vector
 
 std::string AsymptoticOrder::describe() const {
   char b[160];
+  // points outside the band are named: a fit that left them out says so
+  const std::string outside =
+      dropped ? "; " + std::to_string(dropped) + " point" + (dropped > 1 ? "s" : "") + " outside the " + band.describe() : "";
   switch (status) {
     case Status::asymptotic:
       std::snprintf(b, sizeof b, "order %.3f over h = %.4g ... %.4g (%d points)", slope, h_max, h_min, points);
-      return b;
+      return b + outside;
     case Status::pre_asymptotic: {
       std::string s = "pre-asymptotic: local orders";
       for (double p : local_orders) {
         std::snprintf(b, sizeof b, " %.3f", p);
         s += b;
       }
-      return s + " (no three finest points agree within the spread)";
+      return s + " (no three finest points agree within the spread)" + outside;
     }
     case Status::too_few_points: break;
   }
-  return "too few points above round-off for an order";
+  return "no order: fewer than two points with " + band.describe() + " (the reference's floor and blow-up)";
 }
 
 void fit_series(ConvergenceSeries& s) {
   s.local_order = observed_orders(s.h, s.err);
-  s.fit = fit_order(s.h, s.err);
-  s.asymptotic = asymptotic_order(s.h, s.err);
+  s.fit = fit_order(s.h, s.err, s.band);
+  s.asymptotic = asymptotic_order(s.h, s.err, s.band);
 }
 
 namespace {
 struct Point {
+  double size = missing_value;  // of the combination's reference solution (the fits' ceiling)
   double err = missing_value;
   std::vector<double> measures;
   std::string failure;
@@ -148,6 +189,7 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
         std::vector<Point> out;
         std::size_t ref_of = SIZE_MAX;
         Reference ref;
+        double ref_size = missing_value;
         std::optional<NumericalFailure> ref_failure;  // a combination whose reference fails (a closed form that overflows) is missing
         for (std::size_t k = first; k < last; ++k) {
           const std::size_t c = k / (S * H);
@@ -159,12 +201,14 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
             try {
               ref = sys.reference(pv, h_ref, step_count(h_ref, sys.horizon(pv)), kind, tol);
               ref_kind = ref.kind;
+              ref_size = solution_size(ref, norm);
             } catch (const NumericalFailure& f) {
               if (combos.size() == 1) throw;  // a study of one combination has nothing left to show
               ref_failure = f;
             }
           }
           Point p;
+          p.size = ref_size;
           p.measures.assign(M, missing_value);
           try {
             if (ref_failure) throw *ref_failure;
@@ -181,10 +225,10 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
         }
         return out;
       },
-      [](const Point& p) { return std::move(RowWriter().put(p.err).put(p.measures).put(p.failure)).str(); },
+      [](const Point& p) { return std::move(RowWriter().put(p.size).put(p.err).put(p.measures).put(p.failure)).str(); },
       [](const std::string& row) {
         Point p;
-        RowReader(row).get(p.err).get(p.measures).get(p.failure);
+        RowReader(row).get(p.size).get(p.err).get(p.measures).get(p.failure);
         return p;
       });
   ConvergenceStudy study;
@@ -198,6 +242,7 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
   study.reference = ref_kind;
   study.norm = norm;
   study.measures = sys.measures;
+  const bool exact = kind == ReferenceKind::exact || (kind == ReferenceKind::automatic && sys.has_exact);
   for (std::size_t c = 0; c < combos.size(); ++c)
     for (std::size_t si = 0; si < S; ++si) {
       ConvergenceSeries s;
@@ -212,6 +257,8 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
         s.failure.push_back(p.failure);
         s.steps.push_back(step_count(hs[i], sys.horizon(combos[c])));
       }
+      // every point of a combination read the same reference: its first has its size
+      s.band = fit_band(exact, tol, points[(c * S + si) * H].size);
       fit_series(s);
       study.series.push_back(std::move(s));
     }
