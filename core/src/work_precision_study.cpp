@@ -7,34 +7,23 @@
 #include <cstdio>
 #include <functional>
 
-#include <boost/numeric/odeint.hpp>
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_odeiv2.h>
-
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
-#include "geomint/gsl_evolve.hpp"
 #include "geomint/io.hpp"
 #include "geomint/reference.hpp"
+#include "geomint/run/baselines.hpp"
 #include "geomint/step_cost.hpp"
 #include "geomint/study.hpp"
 #include "geomint/work_precision.hpp"
 
 namespace geomint {
 
-namespace odeint = boost::numeric::odeint;
-
-const std::vector<std::string>& work_precision_baselines() {
-  static const std::vector<std::string> names{"odeint-rk4", "odeint-dopri5", "odeint-bulirsch-stoer", "gsl-rk8pd"};
-  return names;
-}
+const std::vector<std::string>& work_precision_baselines() { return baseline_names(); }
 
 namespace {
 
 using State = std::vector<double>;
-using Rhs = std::function<void(double, const double*, double*)>;
-
-bool adaptive(const std::string& baseline) { return baseline != "odeint-rk4"; }
+using Rhs = OdeRhs;
 
 // The error of a state's positions against reference positions r (n of them) in `norm`.
 double distance(const double* x, const double* r, int n, ErrorNorm norm) {
@@ -61,11 +50,6 @@ double relative_size_floor(const SystemInfo& sys, const WorkPrecisionOptions& op
 }
 
 namespace {
-
-int gsl_rhs(double t, const double y[], double f[], void* params) {
-  (*static_cast<const Rhs*>(params))(t, y, f);
-  return GSL_SUCCESS;
-}
 
 // One combination of parameters: its equations, reference and every point.
 struct Combination {
@@ -158,142 +142,67 @@ struct Combination {
         [&] { return sys.time_run(pv, name, h, opt.path, opt.reps); }, opt.reps, where(name, "h", h));
   }
 
-  WorkPoint rk4(double h) const {
-    const long N = step_count(h, T);
-    const long stride = ref_failure ? 1 : ref.index(1, h);
-    auto rhs = [&](const State& x, State& dx, double t) { f(t, x.data(), dx.data()); };
-    const long every = relative() ? ratio_of(h_out, h) : 1;
-    auto run = [&](double* err, Relative* rel) {
-      odeint::runge_kutta4<State> st;
-      State x = x0;
-      if (rel) rel->add(0, x.data());
-      for (long j = 0; j < N; ++j) {
-        st.do_step(rhs, x, static_cast<double>(j) * h, h);
-        if (err)
-          *err = std::max(*err, distance(x.data(), &ref.q[static_cast<std::size_t>((j + 1) * stride * n)], n, opt.norm));
-        if (rel && (j + 1) % every == 0) rel->add((j + 1) / every, x.data());
-      }
-      do_not_optimize(x[0]);
-    };
-    WorkPoint p = work_point("odeint-rk4", "rk", "h", h, group);
-    p.steps = N;
-    return measure_point_timed(
-        p, n_errors(),
-        [&] {
-          need_reference();
-          double err = 0;
-          Relative rel{*this};
-          run(&err, relative() ? &rel : nullptr);
-          return Measured{errors(err, &rel), N};
-        },
-        [&] { return time_per_call([&] { run(nullptr, nullptr); }, opt.reps); }, opt.reps, where("odeint-rk4", "h", h));
-  }
-
-  // An adaptive method's error at the steps it chose, against the closed form there: no output grid caps its
-  // step size. observe(t, x) is called at t = 0 and after every accepted step.
-  template <class Integrate>
-  WorkPoint at_steps(const std::string& name, double tol, Integrate&& integrate) const {
-    auto measure = [&] {
-      std::vector<double> ts, qs;
-      const long steps = integrate([&](double t, const double* x) {
-        ts.push_back(t);
-        qs.insert(qs.end(), x, x + n);
-      });
-      const std::vector<double> exact = sys.exact_positions(pv, ts);
-      double err = 0;
-      for (std::size_t k = 0; k < ts.size(); ++k)
-        err = std::max(err, distance(&qs[k * static_cast<std::size_t>(n)], &exact[k * static_cast<std::size_t>(n)], n, opt.norm));
-      return Measured{{err}, steps};
-    };
-    return measure_point_timed(
-        work_point(name, "adaptive", "tol", tol, group), 1, measure,
-        [&] { return time_per_call([&] { do_not_optimize(integrate([](double, const double*) {})); }, opt.reps); },
-        opt.reps, where(name, "tol", tol));
-  }
-
-  // An adaptive method's error by dense output on the grid of the largest h, against the reference there.
-  template <class MakeStepper>
-  WorkPoint at_output(const std::string& name, double tol, MakeStepper&& make) const {
-    const long N_out = step_count(h_out, T), stride = ref_failure ? 1 : ref.index(1, h_out);
-    std::vector<double> times(static_cast<std::size_t>(N_out + 1));
-    for (long j = 0; j <= N_out; ++j) times[static_cast<std::size_t>(j)] = static_cast<double>(j) * h_out;
-    auto rhs = [&](const State& x, State& dx, double t) { f(t, x.data(), dx.data()); };
-    auto dense = [&](double* err, Relative* rel, bool measured) {
-      State x = x0;
-      std::size_t k = 0, kept = 0;
-      try {
-        k = odeint::integrate_times(make(tol), rhs, x, times.begin(), times.end(), h_out / 10,
-                                    [&](const State& y, double) {
-                                      if (err)
-                                        *err = std::max(*err, distance(y.data(), &ref.q[kept * static_cast<std::size_t>(stride * n)], n, opt.norm));
-                                      if (rel) rel->add(static_cast<long>(kept), y.data());
-                                      ++kept;
-                                    },
-                                    odeint::max_step_checker(odeint_max_steps_between_outputs));
-      } catch (const odeint::no_progress_error&) {
-        throw_too_stiff("Boost.Odeint (" + std::string(measured ? "measured" : "timed") + " run)",
-                        kept ? times[kept - 1] : times.front(), kept);
-      }
-      do_not_optimize(x[0]);
-      if (err && kept != times.size()) *err = missing_value;
-      return static_cast<long>(k);
-    };
-    return measure_point_timed(
-        work_point(name, "adaptive", "tol", tol, group), n_errors(),
-        [&] {
-          need_reference();
-          double err = 0;
-          Relative rel{*this};
-          const long steps = dense(&err, relative() ? &rel : nullptr, true);
-          if (std::isnan(err)) rel.counted = 0;  // a run that stopped early is missing in both
-          return Measured{errors(err, &rel), steps};
-        },
-        [&] { return time_per_call([&] { dense(nullptr, nullptr, false); }, opt.reps); }, opt.reps, where(name, "tol", tol));
-  }
-
-  WorkPoint baseline(const std::string& name, double tol) const {
-    auto rhs = [&](const State& x, State& dx, double t) { f(t, x.data(), dx.data()); };
-    if (!opt.at_steps) {
-      if (name == "odeint-dopri5")
-        return at_output(name, tol, [](double t) { return odeint::make_dense_output(t, t, odeint::runge_kutta_dopri5<State>()); });
-      if (name == "odeint-bulirsch-stoer")
-        return at_output(name, tol, [](double t) { return odeint::bulirsch_stoer_dense_out<State>(t, t); });
-      throw InputError("baseline '" + name + "' has no dense output: it needs --adaptive-error steps");
+  // A baseline through the one door (run/baselines.hpp): odeint-rk4 over h on the grid of the reference, the
+  // adaptive ones over tol, watched at dense output on the grid of the largest h, or at the steps they chose
+  // (at_steps, against the closed form there: no output grid caps their step size).
+  WorkPoint baseline(const std::string& name, double knob) const {
+    BaselineSetup b;
+    b.name = name;
+    const bool rk4 = !is_adaptive_baseline(name);
+    if (rk4) {
+      b.h = knob;
+      b.steps = step_count(knob, T);
+    } else {
+      b.abs_tol = b.rel_tol = knob;
     }
-    // controlled steppers from t = 0 to T, a first step of 0.01, every accepted step observed
-    auto odeint_run = [&](auto stepper) {
-      return [&, stepper](auto&& observe) mutable {
-        State x = x0;
-        long accepted = 0;
-        const std::size_t k = odeint::integrate_adaptive(stepper, rhs, x, 0.0, T, 0.01, [&](const State& y, double t) {
-          if (t > 0) check_adaptive_steps(++accepted, t, T);
-          observe(t, y.data());
-        });
-        do_not_optimize(x[0]);
-        return static_cast<long>(k);
-      };
+    if (!rk4 && !opt.at_steps) {
+      const long N_out = step_count(h_out, T);
+      for (long j = 0; j <= N_out; ++j) b.times.push_back(static_cast<double>(j) * h_out);
+      b.watch = BaselineWatch::outputs;
+    } else {
+      b.T = T;
+    }
+    const bool at_steps = !rk4 && opt.at_steps;  // read against the closed form, not the reference
+    const long stride = ref_failure || at_steps ? 1 : ref.index(1, rk4 ? knob : h_out);
+    const long every = rk4 && relative() ? ratio_of(h_out, knob) : 1;
+    auto label = [&](bool measured) {
+      b.label = std::string("Boost.Odeint (") + (measured ? "measured" : "timed") + " run)";
     };
-    if (name == "odeint-dopri5")
-      return at_steps(name, tol, odeint_run(odeint::make_controlled(tol, tol, odeint::runge_kutta_dopri5<State>())));
-    if (name == "odeint-bulirsch-stoer") return at_steps(name, tol, odeint_run(odeint::bulirsch_stoer<State>(tol, tol)));
-    if (name == "gsl-rk8pd")
-      return at_steps(name, tol, [&](auto&& observe) {
-        gsl_odeiv2_system gs{gsl_rhs, nullptr, static_cast<std::size_t>(2 * n), const_cast<Rhs*>(&f)};
-        GslEvolve gsl(gsl_odeiv2_step_rk8pd, static_cast<std::size_t>(2 * n), tol, tol);
-        State y = x0;
-        double t = 0, dt = 0.01;
-        long steps = 0;
-        observe(t, y.data());
-        while (t < T) {
-          if (gsl.apply(gs, t, T, dt, y.data()) != GSL_SUCCESS)
-            throw NumericalFailure(steps, "step size", "GSL rk8pd could not take a step at t = " + show(t));
-          check_adaptive_steps(++steps, t, T);
-          observe(t, y.data());
+    auto measure = [&] {
+      if (!at_steps) need_reference();
+      label(true);
+      double err = 0;
+      Relative rel{*this};
+      std::vector<double> ts, qs;  // at_steps: the states where the closed form is read afterwards
+      const BaselineObserver observe = [&](std::size_t k, double t, const double* x) {
+        if (rk4) {
+          if (k > 0) err = std::max(err, distance(x, &ref.q[k * static_cast<std::size_t>(stride * n)], n, opt.norm));
+          if (relative() && static_cast<long>(k) % every == 0) rel.add(static_cast<long>(k) / every, x);
+        } else if (at_steps) {
+          ts.push_back(t);
+          qs.insert(qs.end(), x, x + n);
+        } else {
+          err = std::max(err, distance(x, &ref.q[k * static_cast<std::size_t>(stride * n)], n, opt.norm));
+          if (relative()) rel.add(static_cast<long>(k), x);
         }
-        do_not_optimize(y[0]);
-        return steps;
-      });
-    throw InputError("unknown baseline '" + name + "'");
+      };
+      const BaselineCount c = run_baseline(b, f, x0, &observe);
+      if (at_steps) {
+        const std::vector<double> exact = sys.exact_positions(pv, ts);
+        for (std::size_t k = 0; k < ts.size(); ++k)
+          err = std::max(err, distance(&qs[k * static_cast<std::size_t>(n)], &exact[k * static_cast<std::size_t>(n)], n, opt.norm));
+      }
+      return Measured{errors(err, &rel), c.steps};
+    };
+    WorkPoint p = work_point(name, rk4 ? "rk" : "adaptive", rk4 ? "h" : "tol", knob, group);
+    if (rk4) p.steps = b.steps;  // known before the run: it stays in the table where the run fails
+    return measure_point_timed(
+        p, at_steps ? 1 : n_errors(), measure,
+        [&] {
+          label(false);
+          return time_per_call([&] { run_baseline(b, f, x0, nullptr); }, opt.reps);
+        },
+        opt.reps, where(name, rk4 ? "h" : "tol", knob));
   }
 };
 
@@ -306,11 +215,9 @@ void check_work_precision(const SystemInfo& sys, const std::vector<ParamValues>&
   require(opt.reps >= 1 && opt.reps <= 1000, "reps must be in [1, 1000]");
   bool over_tol = false;
   for (const auto& b : opt.baselines) {
-    const auto& known = work_precision_baselines();
-    require(std::find(known.begin(), known.end(), b) != known.end(),
-            "unknown baseline '" + b + "' (known: " + join_names(known, " ") + ")");
+    check_baseline(b);
     if (!opt.at_steps) require(b != "gsl-rk8pd", "baseline 'gsl-rk8pd' has no dense output: it needs --adaptive-error steps");
-    over_tol = over_tol || adaptive(b);
+    over_tol = over_tol || is_adaptive_baseline(b);
   }
   if (over_tol) require(!opt.tols.empty(), "the adaptive baselines need tolerances (--tol)");
   require(std::isfinite(opt.relative_window) && opt.relative_window >= 0, "the relative error's window must be >= 0");
@@ -329,7 +236,7 @@ void check_work_precision(const SystemInfo& sys, const std::vector<ParamValues>&
   double cost = 0;  // of one step of every scheme, in cheap steps
   for (const auto& s : opt.schemes) cost += step_cost(sys, s, opt.path);
   for (const auto& b : opt.baselines)
-    if (!adaptive(b)) cost += 4;  // four evaluations of the equations
+    if (!is_adaptive_baseline(b)) cost += 4;  // four evaluations of the equations
   // every point: one run measured, reps + 1 timed (the adaptive baselines' steps are bounded as they run)
   for (const auto& pv : combos) {
     const double T = sys.horizon(pv);
@@ -362,11 +269,11 @@ WorkPrecisionStudy work_precision_study(const SystemInfo& sys, const std::vector
     for (const auto& name : opt.schemes)
       for (double h : opt.hs) study.points.push_back(k.scheme(name, h));
     for (const auto& b : opt.baselines)
-      if (!adaptive(b))
-        for (double h : opt.hs) study.points.push_back(k.rk4(h));
+      if (!is_adaptive_baseline(b))
+        for (double h : opt.hs) study.points.push_back(k.baseline(b, h));
     for (double tol : opt.tols)
       for (const auto& b : opt.baselines)
-        if (adaptive(b)) study.points.push_back(k.baseline(b, tol));
+        if (is_adaptive_baseline(b)) study.points.push_back(k.baseline(b, tol));
   }
   return study;
 }
