@@ -12,6 +12,7 @@
 #include "geomint/error.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/registry.hpp"
+#include "geomint/run/baselines.hpp"
 #include "geomint/systems/kepler.hpp"
 #include "geomint/timing.hpp"
 
@@ -59,31 +60,27 @@ std::vector<State> odeint_reference(const KeplerSetting& s, long N, double tol, 
   return xs;
 }
 
-// The anchor's fixed-step RK4, here Odeint's, on the same derived equations; observe(j, t_j, x_j) at every step.
-template <class Observer>
-void run_rk4(const KeplerSetting& s, long N, Observer&& observe) {
+// The anchor's fixed-step RK4, here Odeint's through the one door (run/baselines.hpp), on the same derived
+// equations; observe(j, t_j, x_j) at every step (null: a timed run).
+void run_rk4(const KeplerSetting& s, long N, const BaselineObserver* observe) {
   const SystemInfo& sys = find_system("kepler");
-  const auto ode = sys.ode(params_of(s));
-  const auto x0 = sys.ode_initial_state(params_of(s), false);
-  boost::numeric::odeint::runge_kutta4<State> rk4;
-  State x{x0[0], x0[1], x0[2], x0[3]};
-  auto f = [&](const State& y, State& dy, double t) { ode(t, y.data(), dy.data()); };
-  observe(0L, 0.0, x);
-  for (long j = 0; j < N; ++j) {
-    rk4.do_step(f, x, static_cast<double>(j) * s.tau, s.tau);
-    for (double c : x)
-      if (!std::isfinite(c)) throw NumericalFailure(j + 1, "state", "odeint-rk4 left the finite numbers");
-    observe(j + 1, static_cast<double>(j + 1) * s.tau, x);
-  }
+  BaselineSetup b;
+  b.name = "odeint-rk4";
+  b.h = s.tau;
+  b.steps = N;
+  run_baseline(b, sys.ode(params_of(s)), sys.ode_initial_state(params_of(s), false), observe);
 }
 
 Trajectory run_method(const KeplerSetting& s, const std::string& method, long N) {
   Trajectory tr;
   if (method == "odeint-rk4") {
-    run_rk4(s, N, [&](long, double t, const State& x) {
+    const BaselineObserver keep = [&](std::size_t j, double t, const double* x) {
+      for (int i = 0; i < 4; ++i)
+        if (!std::isfinite(x[i])) throw NumericalFailure(static_cast<long>(j), "state", "odeint-rk4 left the finite numbers");
       tr.t.push_back(t);
-      tr.x.push_back(x);
-    });
+      tr.x.push_back({x[0], x[1], x[2], x[3]});
+    };
+    run_rk4(s, N, &keep);
     tr.work_per_step = 4;
     tr.work_unit = "rhs";
     return tr;
@@ -208,10 +205,7 @@ double kepler_anchor_seconds(const KeplerSetting& s, const std::string& method, 
   require(reps >= 1, "reps must be at least 1");
   const long N = step_count(s.tau, s.T);
   if (method == "odeint-rk4") {
-    double last = 0;
-    return time_per_call([&] { run_rk4(s, N, [&](long, double, const State& x) { last = x[0]; }); do_not_optimize(last); },
-                         reps)
-        .median;
+    return time_per_call([&] { run_rk4(s, N, nullptr); }, reps).median;
   }
   return find_system("kepler").time_run(params_of(s), method, s.tau, Path::generic, reps).median;
 }

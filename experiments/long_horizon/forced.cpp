@@ -22,24 +22,20 @@
 #include <cstdio>
 #include <functional>
 
-#include <boost/numeric/odeint.hpp>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_multifit.h>
-#include <gsl/gsl_odeiv2.h>
 
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
-#include "geomint/gsl_evolve.hpp"
-#include "geomint/long_horizon.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/registry.hpp"
+#include "geomint/run/baselines.hpp"
 #include "geomint/timing.hpp"
 #include "long_horizon/table.hpp"
 #include "long_horizon/studies.hpp"
 
 using namespace geomint;
-namespace odeint = boost::numeric::odeint;
 using State2 = std::array<double, 2>;
 
 namespace {
@@ -104,43 +100,15 @@ class SteadyFit {
   std::vector<double> t_, q_;
 };
 
-using Rhs = std::function<void(double, const double*, double*)>;
-
-struct OdeRhs {
-  const Rhs* f;
-  void operator()(const State2& x, State2& dx, double t) const { (*f)(t, x.data(), dx.data()); }
-};
-
-template <class Stepper>
-Fit controlled_run(Stepper st, const Rhs& f, State2 x, double T, double omega, bool measure) {
+// A baseline through the one door (run/baselines.hpp): the steady state fitted from every step it takes (an adaptive
+// one's last step lands on T).
+Fit baseline_run(BaselineSetup b, const OdeRhs& f, const State2& x0, double T, double omega, bool measure) {
   SteadyFit fit(omega, T / 2);
-  const OdeRhs rhs{&f};
-  const long steps = controlled_steps(st, rhs, x, T, [&](double t, const State2& s) {
-    if (measure) fit.point(t, s[0]);
-  });
-  do_not_optimize(x[0]);
-  return measure ? fit.result(steps) : Fit{};
-}
-
-int gsl_rhs(double t, const double y[], double dydt[], void* params) {
-  (*static_cast<const Rhs*>(params))(t, y, dydt);
-  return GSL_SUCCESS;
-}
-
-Fit rk8pd_run(const Rhs& f, State2 x0, double tol, double T, double omega, bool measure) {
-  SteadyFit fit(omega, T / 2);
-  gsl_odeiv2_system sys{gsl_rhs, nullptr, 2, const_cast<Rhs*>(&f)};
-  GslEvolve gsl(gsl_odeiv2_step_rk8pd, 2, tol, tol);
-  double t = 0, dt = 0.01, y[2] = {x0[0], x0[1]};
-  long steps = 0;
-  while (t < T) {
-    if (gsl.apply(sys, t, T, dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
-      throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
-    check_adaptive_steps(++steps, t, T);
-    if (measure) fit.point(t, y[0]);
-  }
-  do_not_optimize(y[0]);
-  return measure ? fit.result(steps) : Fit{};
+  b.T = T;
+  b.end = BaselineEnd::land;
+  const BaselineObserver observe = [&](std::size_t, double t, const double* x) { fit.point(t, x[0]); };
+  const BaselineCount n = run_baseline(b, f, {x0[0], x0[1]}, measure ? &observe : nullptr);
+  return measure ? fit.result(n.steps) : Fit{};
 }
 
 // One point of the study: the steady-state amplitude and phase errors against (C, delta), and the CPU time.
@@ -219,7 +187,7 @@ int long_horizon_forced(int argc, char** argv) {
       const double T = P * Tf;
       // The equation of the system's header, by hand (the AD-derived sys.ode(pv) costs ~10x more per evaluation and
       // would charge the ODE methods for the derivation, not for the integration; the schemes run their closed forms).
-      const Rhs f = [alpha, beta, omega](double t, const double* x, double* dx) {
+      const OdeRhs f = [alpha, beta, omega](double t, const double* x, double* dx) {
         dx[0] = x[1];
         dx[1] = -x[0] - alpha * x[1] + beta * std::sin(omega * t);
       };
@@ -240,27 +208,26 @@ int long_horizon_forced(int argc, char** argv) {
           pts.push_back(study.point(name, "geometric", "m", P, m, run, timing));
         }
         auto rk4 = [&, h, N](bool measure) {
-          SteadyFit fit(omega, T / 2);
-          odeint::runge_kutta4<State2> st;
-          State2 x = x0;
-          const OdeRhs rhs{&f};
-          for (long j = 0; j < N; ++j) {
-            st.do_step(rhs, x, static_cast<double>(j) * h, h);
-            if (measure) fit.point(static_cast<double>(j + 1) * h, x[0]);
-          }
-          if (!std::isfinite(x[0])) throw NumericalFailure(N, "state", "non-finite state at the end");
-          do_not_optimize(x[0]);
-          return measure ? fit.result(N) : Fit{};
+          BaselineSetup b;
+          b.name = "odeint-rk4";
+          b.h = h;
+          b.steps = N;
+          return baseline_run(b, f, x0, T, omega, measure);
         };
         pts.push_back(study.point("odeint-rk4", "rk", "m", P, m, rk4,
                                     [&] { return time_per_call([&] { do_not_optimize(rk4(false).steps); }, reps); }));
       }
       for (double tol : tols) {
-        auto dopri = [&, tol, T](bool m) {
-          return controlled_run(odeint::make_controlled(tol, tol, odeint::runge_kutta_dopri5<State2>()), f, x0, T, omega, m);
+        BaselineSetup b;
+        b.abs_tol = b.rel_tol = tol;
+        auto adaptive = [&, b, T](const char* name) {
+          return [&, b, T, name](bool m) {
+            BaselineSetup named = b;
+            named.name = name;
+            return baseline_run(named, f, x0, T, omega, m);
+          };
         };
-        auto bs = [&, tol, T](bool m) { return controlled_run(odeint::bulirsch_stoer<State2>(tol, tol), f, x0, T, omega, m); };
-        auto r8 = [&, tol, T](bool m) { return rk8pd_run(f, x0, tol, T, omega, m); };
+        const auto dopri = adaptive("odeint-dopri5"), bs = adaptive("odeint-bulirsch-stoer"), r8 = adaptive("gsl-rk8pd");
         pts.push_back(study.point("odeint-dopri5", "adaptive", "tol", P, tol, dopri,
                                     [&] { return time_per_call([&] { do_not_optimize(dopri(false).steps); }, reps); }));
         pts.push_back(study.point("odeint-bulirsch-stoer", "adaptive", "tol", P, tol, bs,

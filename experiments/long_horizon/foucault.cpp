@@ -28,27 +28,23 @@
 #include <cstdio>
 #include <functional>
 
-#include <boost/numeric/odeint.hpp>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_fit.h>
-#include <gsl/gsl_odeiv2.h>
 
 #include "geomint/cli.hpp"
 #include "geomint/scene_options.hpp"
 #include "geomint/error.hpp"
 #include "geomint/observers.hpp"
 #include "geomint/systems/foucault.hpp"
-#include "geomint/gsl_evolve.hpp"
-#include "geomint/long_horizon.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
+#include "geomint/run/baselines.hpp"
 #include "geomint/timing.hpp"
 #include "geomint/work_precision.hpp"
 #include "long_horizon/table.hpp"
 #include "long_horizon/studies.hpp"
 
 using namespace geomint;
-namespace odeint = boost::numeric::odeint;
 using State4 = std::array<double, 4>;
 
 namespace {
@@ -142,67 +138,26 @@ Structure scheme_run(const Sys& sc, double h, long N, bool measure) {
   return s;
 }
 
-// Odeint's rk4 with a fixed step on the multiplier ODE.
-Structure rk4_run(const systems::FoucaultPendulum& sc, double h, long N, bool measure) {
+// A baseline through the one door (run/baselines.hpp) on the Lagrange–d'Alembert multiplier ODE from the consistent
+// start, every step watched (an adaptive one's last step lands on T).
+Structure baseline_run(const systems::FoucaultPendulum& sc, BaselineSetup b, double T, bool measure) {
   const FoucaultParams<double> p(sc);
-  const FoucaultMultiplierOde f(p);
+  const FoucaultMultiplierOde ode(p);
+  const OdeRhs f = [&ode](double t, const double* x, double* dx) {
+    const State4 u{x[0], x[1], x[2], x[3]};
+    State4 du;
+    ode(u, du, t);
+    std::copy(du.begin(), du.end(), dx);
+  };
   const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
-  State4 x{q0(0), q0(1), v0(0), v0(1)};
-  odeint::runge_kutta4<State4> st;
   Probe probe(p);
-  if (measure) probe.point(0, q0, v0);
-  for (long j = 0; j < N; ++j) {
-    st.do_step(f, x, static_cast<double>(j) * h, h);
-    if (measure) probe.point(static_cast<double>(j + 1) * h, Vec2<double>(x[0], x[1]), Vec2<double>(x[2], x[3]));
-  }
-  if (!std::isfinite(x[0]) || !std::isfinite(x[1])) throw NumericalFailure(N, "state", "non-finite state at the end");
-  do_not_optimize(x[0]);
-  return measure ? probe.result(N) : Structure{};
-}
-
-// An Odeint controlled stepper driven by try_step to T (the last step shortened to land on T).
-template <class Stepper>
-Structure controlled_run(const systems::FoucaultPendulum& sc, Stepper st, double T, bool measure) {
-  const FoucaultParams<double> p(sc);
-  const FoucaultMultiplierOde f(p);
-  const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
-  State4 x{q0(0), q0(1), v0(0), v0(1)};
-  Probe probe(p);
-  if (measure) probe.point(0, q0, v0);
-  const long steps = controlled_steps(st, f, x, T, [&](double t, const State4& s) {
-    if (measure) probe.point(t, Vec2<double>(s[0], s[1]), Vec2<double>(s[2], s[3]));
-  });
-  do_not_optimize(x[0]);
-  return measure ? probe.result(steps) : Structure{};
-}
-
-int gsl_rhs(double t, const double y[], double dydt[], void* params) {
-  const auto* f = static_cast<const FoucaultMultiplierOde*>(params);
-  const State4 u{y[0], y[1], y[2], y[3]};
-  State4 du;
-  (*f)(u, du, t);
-  std::copy(du.begin(), du.end(), dydt);
-  return GSL_SUCCESS;
-}
-
-Structure rk8pd_run(const systems::FoucaultPendulum& sc, double tol, double T, bool measure) {
-  const FoucaultParams<double> p(sc);
-  FoucaultMultiplierOde f(p);
-  const Vec2<double> q0(sc.x0, sc.y0), v0 = consistent_velocity(p, q0, Vec2<double>(sc.vx0, sc.vy0));
-  gsl_odeiv2_system sys{gsl_rhs, nullptr, 4, &f};
-  GslEvolve gsl(gsl_odeiv2_step_rk8pd, 4, 1e-8 * tol, tol);
-  double t = 0, dt = 0.01, y[4] = {q0(0), q0(1), v0(0), v0(1)};
-  long steps = 0;
-  Probe probe(p);
-  if (measure) probe.point(0, q0, v0);
-  while (t < T) {
-    if (gsl.apply(sys, t, T, dt, y) != GSL_SUCCESS || !std::isfinite(y[0]))
-      throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
-    check_adaptive_steps(++steps, t, T);
-    if (measure) probe.point(t, Vec2<double>(y[0], y[1]), Vec2<double>(y[2], y[3]));
-  }
-  do_not_optimize(y[0]);
-  return measure ? probe.result(steps) : Structure{};
+  b.T = T;
+  b.end = BaselineEnd::land;
+  const BaselineObserver observe = [&](std::size_t, double t, const double* x) {
+    probe.point(t, Vec2<double>(x[0], x[1]), Vec2<double>(x[2], x[3]));
+  };
+  const BaselineCount n = run_baseline(b, f, {q0(0), q0(1), v0(0), v0(1)}, measure ? &observe : nullptr);
+  return measure ? probe.result(n.steps) : Structure{};
 }
 
 // The measures, in the summary's order: precession_err, decay_err, constraint_err, discrete_err and
@@ -274,16 +229,20 @@ int long_horizon_foucault(int argc, char** argv) {
         };
         geometric(sc_rotation);
         geometric(sc);
-        pts.push_back(measure_point("odeint-rk4", "rk", "h", T, h, [&, h, N](bool m) { return rk4_run(sc, h, N, m); }, reps));
+        BaselineSetup rk4;
+        rk4.name = "odeint-rk4";
+        rk4.h = h;
+        rk4.steps = N;
+        pts.push_back(measure_point("odeint-rk4", "rk", "h", T, h, [&, rk4, T](bool m) { return baseline_run(sc, rk4, T, m); }, reps));
       }
       for (double tol : tols) {
-        pts.push_back(measure_point("odeint-dopri5", "adaptive", "tol", T, tol, [&, tol, T](bool m) {
-          return controlled_run(sc, odeint::make_controlled(1e-8 * tol, tol, odeint::runge_kutta_dopri5<State4>()), T, m);
-        }, reps));
-        pts.push_back(measure_point("odeint-bulirsch-stoer", "adaptive", "tol", T, tol, [&, tol, T](bool m) {
-          return controlled_run(sc, odeint::bulirsch_stoer<State4>(1e-8 * tol, tol), T, m);
-        }, reps));
-        pts.push_back(measure_point("gsl-rk8pd", "adaptive", "tol", T, tol, [&, tol, T](bool m) { return rk8pd_run(sc, tol, T, m); }, reps));
+        for (const char* name : {"odeint-dopri5", "odeint-bulirsch-stoer", "gsl-rk8pd"}) {
+          BaselineSetup b;  // relative control: abs = 1e-8 tol (the amplitude decays by e^-18 in 10 h)
+          b.name = name;
+          b.abs_tol = 1e-8 * tol;
+          b.rel_tol = tol;
+          pts.push_back(measure_point(name, "adaptive", "tol", T, tol, [&, b, T](bool m) { return baseline_run(sc, b, T, m); }, reps));
+        }
       }
     }
 

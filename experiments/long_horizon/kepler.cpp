@@ -32,17 +32,16 @@
 #include <boost/math/constants/constants.hpp>
 #include <boost/numeric/odeint.hpp>
 #include <gsl/gsl_errno.h>
-#include <gsl/gsl_odeiv2.h>
 
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
-#include "geomint/gsl_evolve.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/registry.hpp"
+#include "geomint/run/baselines.hpp"
 #include "geomint/systems/kepler.hpp"
 #include "geomint/timing.hpp"
 #include "long_horizon/table.hpp"
@@ -55,7 +54,6 @@ namespace {
 
 const double kTwoPi = boost::math::constants::two_pi<double>();
 using State = std::array<double, 4>;  // (q1, q2, q1', q2')
-using Rhs = std::function<void(double, const double*, double*)>;
 
 // The structural quantities of a state: angular momentum, energy, direction of the Laplace–Runge–Lenz vector.
 struct Invariants {
@@ -120,81 +118,10 @@ struct Errors {
   }
 };
 
-// The right-hand side with its calls counted (Odeint copies the functor; the count is shared).
-struct Counted {
-  const Rhs* f;
-  long* calls;
-  void operator()(const State& x, State& dx, double t) const {
-    ++*calls;
-    (*f)(t, x.data(), dx.data());
-  }
-};
-
-int gsl_rhs(double t, const double y[], double dydt[], void* params) {
-  const Counted& c = *static_cast<const Counted*>(params);
-  ++*c.calls;
-  (*c.f)(t, y, dydt);
-  return GSL_SUCCESS;
-}
-
-// What a baseline's run gives: its steps and right-hand-side calls; observe(i, t_i, x_i) at every output time.
-struct Work {
-  long steps = 0, calls = 0;
-};
-using Observe = std::function<void(std::size_t, double, const State&)>;
-
-Work rk4_run(const Rhs& f, State x, double h, long N, long stride, const Observe* observe) {
-  Work w;
-  const Counted rhs{&f, &w.calls};
-  odeint::runge_kutta4<State> st;
-  if (observe) (*observe)(0, 0.0, x);
-  for (long j = 0; j < N; ++j) {
-    st.do_step(rhs, x, static_cast<double>(j) * h, h);
-    if (observe && (j + 1) % stride == 0) (*observe)(static_cast<std::size_t>((j + 1) / stride), static_cast<double>(j + 1) * h, x);
-  }
-  if (!std::isfinite(x[0])) throw NumericalFailure(N, "state", "odeint-rk4: non-finite state at the end");
-  do_not_optimize(x[0]);
-  w.steps = N;
-  return w;
-}
-
-template <class Dense>
-Work dense_run(Dense st, const Rhs& f, State x, const std::vector<double>& times, const Observe* observe) {
-  Work w;
-  const Counted rhs{&f, &w.calls};
-  std::size_t i = 0;
-  try {
-    w.steps = static_cast<long>(odeint::integrate_times(
-        st, rhs, x, times.begin(), times.end(), times[1] / 10,
-        [&](const State& y, double t) {
-          if (observe) (*observe)(i, t, y);
-          ++i;
-        },
-        odeint::max_step_checker(odeint_max_steps_between_outputs)));
-  } catch (const odeint::no_progress_error&) {
-    throw_too_stiff("Odeint", i == 0 ? 0.0 : times[i - 1], i);
-  }
-  if (!std::isfinite(x[0])) throw NumericalFailure(w.steps, "state", "non-finite state at the end");
-  do_not_optimize(x[0]);
-  return w;
-}
-
-Work rk8pd_run(const Rhs& f, State x, double tol, const std::vector<double>& times, const Observe* observe) {
-  Work w;
-  Counted c{&f, &w.calls};
-  gsl_odeiv2_system sys{gsl_rhs, nullptr, 4, &c};
-  GslEvolve gsl(gsl_odeiv2_step_rk8pd, 4, tol, tol);
-  double t = 0, dt = 1e-3;
-  if (observe) (*observe)(0, 0.0, x);
-  for (std::size_t i = 1; i < times.size(); ++i)
-    while (t < times[i]) {
-      if (gsl.apply(sys, t, times[i], dt, x.data()) != GSL_SUCCESS || !std::isfinite(x[0]))
-        throw NumericalFailure(w.steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
-      check_adaptive_steps(++w.steps, t, times.back());
-      if (t >= times[i] && observe) (*observe)(i, t, x);
-    }
-  do_not_optimize(x[0]);
-  return w;
+// A baseline through the one door (run/baselines.hpp), its errors taken at every output time by `err`.
+BaselineCount baseline_run(const BaselineSetup& b, const OdeRhs& f, const State& x0, Errors* err) {
+  const BaselineObserver observe = [&](std::size_t i, double t, const double* x) { (*err)(i, t, State{x[0], x[1], x[2], x[3]}); };
+  return run_baseline(b, f, std::vector<double>(x0.begin(), x0.end()), err ? &observe : nullptr);
 }
 
 }  // namespace
@@ -281,7 +208,7 @@ int long_horizon_kepler(int argc, char** argv) {
     }
 
     const ParamValues pv0 = values_for(orbits.back());
-    const Rhs f = sys.ode_rhs(pv0);
+    const OdeRhs f = sys.ode_rhs(pv0);
     const auto x0v = sys.ode_initial_state(pv0, true);
     const State x0{x0v[0], x0v[1], x0v[2], x0v[3]};
     const double M0 = x0[0] * x0[3] - x0[1] * x0[2];
@@ -319,38 +246,42 @@ int long_horizon_kepler(int argc, char** argv) {
                   [&] { return sys.time_run(pv, name, h, Path::fast, reps); }, reps, context(name, "k", k));
           add(std::move(pt), n_eval);  // after the run: it counts the updates
         }
-        Work w;
+        BaselineSetup b;
+        b.name = "odeint-rk4";
+        b.h = h;
+        b.steps = N;
+        b.every = stride;
+        BaselineCount w;
         WorkPoint pt = measure_point_timed(
                 work_point("odeint-rk4", "rk", "k", k, alpha, P), 4,
                 [&] {
                   Errors err{kep, ref, M0};
-                  const Observe obs = std::ref(err);
-                  w = rk4_run(f, x0, h, N, stride, &obs);
+                  w = baseline_run(b, f, x0, &err);
                   return Measured{{err.worst.begin(), err.worst.end()}, w.steps};
                 },
-                [&] { return time_per_call([&] { rk4_run(f, x0, h, N, stride, nullptr); }, reps); }, reps,
+                [&] { return time_per_call([&] { baseline_run(b, f, x0, nullptr); }, reps); }, reps,
                 context("odeint-rk4", "k", k));
         add(std::move(pt), static_cast<double>(w.calls));
       }
       for (double tol : tols) {
-        auto dopri = [&, tol](const Observe* o) {
-          return dense_run(odeint::make_dense_output(tol, tol, odeint::runge_kutta_dopri5<State>()), f, x0, grid, o);
-        };
-        auto bs = [&, tol](const Observe* o) { return dense_run(odeint::bulirsch_stoer_dense_out<State>(tol, tol), f, x0, grid, o); };
-        auto r8 = [&, tol](const Observe* o) { return rk8pd_run(f, x0, tol, grid, o); };
-        const std::vector<std::pair<const char*, std::function<Work(const Observe*)>>> adaptive{
-            {"odeint-dopri5", dopri}, {"odeint-bulirsch-stoer", bs}, {"gsl-rk8pd", r8}};
-        for (const auto& [name, run] : adaptive) {
-          Work w;
+        for (const char* name : {"odeint-dopri5", "odeint-bulirsch-stoer", "gsl-rk8pd"}) {
+          // dense output on the grid (Odeint), stepped to each output time from a first step of 1e-3 (GSL)
+          BaselineSetup b;
+          b.name = name;
+          b.abs_tol = b.rel_tol = tol;
+          b.watch = BaselineWatch::outputs;
+          b.times = grid;
+          if (!has_dense_output(name)) b.first_step = 1e-3;
+          b.label = "Odeint";
+          BaselineCount w;
           WorkPoint pt = measure_point_timed(
                   work_point(name, "adaptive", "tol", tol, alpha, P), 4,
                   [&] {
                     Errors err{kep, ref, M0};
-                    const Observe obs = std::ref(err);
-                    w = run(&obs);
+                    w = baseline_run(b, f, x0, &err);
                     return Measured{{err.worst.begin(), err.worst.end()}, w.steps};
                   },
-                  [&] { return time_per_call([&] { run(nullptr); }, reps); }, reps, context(name, "tol", tol));
+                  [&] { return time_per_call([&] { baseline_run(b, f, x0, nullptr); }, reps); }, reps, context(name, "tol", tol));
           add(std::move(pt), static_cast<double>(w.calls));
         }
       }

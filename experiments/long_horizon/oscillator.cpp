@@ -38,7 +38,6 @@
 #include "long_horizon/studies.hpp"
 
 using namespace geomint;
-namespace odeint = boost::numeric::odeint;
 
 namespace {
 
@@ -177,27 +176,24 @@ int long_horizon_oscillator(int argc, char** argv) {
             pts.push_back(measure(name, "geometric", "m", a, P, m, geometric(name, a, q0, p0, h, N, W), reps));
           for (const auto& name : compositions)
             pts.push_back(measure(name, "geometric", "m", a, P, m, composed(name, a, q0, p0, h, N, W), reps));
+          BaselineSetup rk4;
+          rk4.name = "odeint-rk4";
+          rk4.h = h;
+          rk4.steps = N;
           pts.push_back(measure("odeint-rk4", "rk", "m", a, P, m, [=](bool mm) {
-            return mm ? run_rk4_structure<true>(a, q0, p0, h, N, W) : run_rk4_structure<false>(a, q0, p0, h, N, W);
+            return run_baseline_structure(rk4, a, q0, p0, h * static_cast<double>(N), W, mm);
           }, reps));
         }
         const long windows = std::lround(P / window_periods);
-        for (double tol : tols) {
-          auto dopri = [tol] { return odeint::make_controlled(tol, tol, odeint::runge_kutta_dopri5<OscWorkState>()); };
-          auto bs = [tol] { return odeint::bulirsch_stoer<OscWorkState>(tol, tol); };
-          pts.push_back(measure("odeint-dopri5", "adaptive", "tol", a, P, tol, [=](bool mm) {
-            return mm ? run_odeint_structure<true>(dopri, a, q0, p0, T, windows)
-                      : run_odeint_structure<false>(dopri, a, q0, p0, T, windows);
-          }, reps));
-          pts.push_back(measure("odeint-bulirsch-stoer", "adaptive", "tol", a, P, tol, [=](bool mm) {
-            return mm ? run_odeint_structure<true>(bs, a, q0, p0, T, windows)
-                      : run_odeint_structure<false>(bs, a, q0, p0, T, windows);
-          }, reps));
-          pts.push_back(measure("gsl-rk8pd", "adaptive", "tol", a, P, tol, [=](bool mm) {
-            return mm ? run_gsl_rk8pd_structure<true>(tol, a, q0, p0, T, windows)
-                      : run_gsl_rk8pd_structure<false>(tol, a, q0, p0, T, windows);
-          }, reps));
-        }
+        for (double tol : tols)
+          for (const char* name : {"odeint-dopri5", "odeint-bulirsch-stoer", "gsl-rk8pd"}) {
+            BaselineSetup b;
+            b.name = name;
+            b.abs_tol = b.rel_tol = tol;
+            pts.push_back(measure(name, "adaptive", "tol", a, P, tol, [=](bool mm) {
+              return run_baseline_structure(b, a, q0, p0, T, windows, mm);
+            }, reps));
+          }
       }
 
     const Params params{{"system", "oscillator"}, {"problem", "damped oscillator q'' = -q - alpha q'"}, {"alpha", format_list(alphas)},

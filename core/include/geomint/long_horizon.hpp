@@ -31,15 +31,11 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-#include <boost/numeric/odeint.hpp>
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_odeiv2.h>
 
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
-#include "geomint/reference.hpp"
-#include "geomint/gsl_evolve.hpp"
 #include "geomint/observers.hpp"
+#include "geomint/run/baselines.hpp"
 #include "geomint/systems/oscillator.hpp"
 #include "geomint/timing.hpp"
 
@@ -223,181 +219,43 @@ OscillatorStructure run_composed_structure(const std::vector<double>& stage_h, d
       alpha, q0, p0, h, N, windows);
 }
 
-// The ODE methods integrate x = (q, p, W) with W' = alpha p^2 (the work, by the method's own quadrature),
-// W reset to 0 at each window boundary (W' does not depend on W, so a stored derivative stays valid).
-using OscWorkState = std::array<double, 3>;
-struct OscWorkRhs {
-  double alpha;
-  void operator()(const OscWorkState& x, OscWorkState& dx, double) const {
-    dx[0] = x[1];
-    dx[1] = -x[0] - alpha * x[1];
-    dx[2] = alpha * x[1] * x[1];
-  }
-};
-
-namespace detail {
-// Rescales (q, p, W) at a boundary; returns the shift (0: none).
-inline int renormalise(OscWorkState& x, int& scale) {
-  const int sh = renormalisation_shift(x[0], x[1]);
-  if (sh) {
+// A baseline (run/baselines.hpp) on x = (q, p, W), W' = alpha p^2 the work by the method's own quadrature, in
+// `windows` windows: at each window's end the probe reads the balance from W, W restarts at 0 (W' does not depend
+// on W, so a stored derivative stays valid) and the state is renormalised (then the stepper restarts). `b` names
+// the baseline and its knob (odeint-rk4: h and the steps N, the probe's horizon h N; the others: tolerances, their
+// horizon T, landing on every window's end). Measure = false is the same run with nothing observed (for timings).
+inline OscillatorStructure run_baseline_structure(BaselineSetup b, double alpha, double q0, double p0, double T,
+                                                  long windows, bool measure) {
+  OscillatorProbe probe(alpha, T);
+  int scale = 0;
+  b.windows = windows;
+  b.T = T;
+  b.end = BaselineEnd::land;
+  if (b.name == "odeint-rk4") b.every = std::max(1L, static_cast<long>(0.5 / b.h));  // unwrapped every half time unit
+  b.window_end = [&](long, double t, double* x) {
+    if (measure) probe.boundary(t, x[0], x[1], scale, x[2]);
+    x[2] = 0;
+    const int sh = renormalisation_shift(x[0], x[1]);
+    if (!sh) return false;
     x[0] = std::ldexp(x[0], sh);
     x[1] = std::ldexp(x[1], sh);
     scale -= sh;
-  }
-  return sh;
-}
-// Steppers that keep a derivative between steps (FSAL: dopri5) have reset(); the others keep nothing.
-template <class S, class = void>
-struct has_reset : std::false_type {};
-template <class S>
-struct has_reset<S, std::void_t<decltype(std::declval<S&>().reset())>> : std::true_type {};
-}  // namespace detail
-
-// Odeint's classical rk4 with a fixed step on (q, p, W).
-template <bool Measure>
-OscillatorStructure run_rk4_structure(double alpha, double q0, double p0, double h, long N, long windows) {
-  namespace odeint = boost::numeric::odeint;
-  OscillatorProbe probe(alpha, h * static_cast<double>(N));
-  const OscWorkRhs rhs{alpha};
-  odeint::runge_kutta4<OscWorkState> st;
-  OscWorkState x{q0, p0, 0};
-  int scale = 0;
-  if (Measure) probe.boundary(0, x[0], x[1], 0, 0);
-  const long every = std::max(1L, static_cast<long>(0.5 / h));
-  long j = 0;
-  for (long k = 1; k <= windows; ++k) {
-    const long end = N * k / windows;
-    x[2] = 0;
-    for (; j < end; ++j) {
-      st.do_step(rhs, x, static_cast<double>(j) * h, h);
-      if (Measure && (j + 1) % every == 0) probe.point(static_cast<double>(j + 1) * h, x[0], x[1], scale);
-    }
-    if (!std::isfinite(x[0]) || !std::isfinite(x[1]))
-      throw NumericalFailure(j, "state", "non-finite q or p by the end of window " + std::to_string(k));
-    if (Measure) probe.boundary(static_cast<double>(j) * h, x[0], x[1], scale, x[2]);
-    if (const int sh = detail::renormalise(x, scale); sh && Measure) probe.rescaled(sh);
-  }
-  do_not_optimize(x[0]);
-  return Measure ? probe.result(N) : OscillatorStructure{};
-}
-
-// Drives an Odeint controlled stepper by try_step from t = 0 to T, its last step shortened to land on T, and
-// calls on_step(t, x) after every accepted step; returns the number of accepted steps. Throws NumericalFailure
-// (with the step) when no step is accepted in 1000 tries or the state stops being finite.
-template <class Stepper, class Rhs, class State, class OnStep>
-long controlled_steps(Stepper& st, const Rhs& rhs, State& x, double T, OnStep&& on_step) {
-  namespace odeint = boost::numeric::odeint;
-  double t = 0, dt = 0.01;
-  long steps = 0, fails = 0;
-  while (t < T) {
-    const bool last = dt >= T - t;
-    double dt_try = last ? T - t : dt;
-    if (st.try_step(rhs, x, t, dt_try) == odeint::success) {
-      check_adaptive_steps(++steps, t, T);
-      fails = 0;
-      if (last) t = T;
-      dt = dt_try;
-      on_step(t, x);
-    } else {
-      dt = dt_try;
-      if (++fails > 1000) throw NumericalFailure(steps, "step size", "no acceptable step at t = " + show(t));
-    }
-    for (const double xi : x)
-      if (!std::isfinite(xi)) throw NumericalFailure(steps, "state", "non-finite state at t = " + show(t));
-  }
-  return steps;
-}
-
-// An Odeint controlled stepper (dopri5, Bulirsch–Stoer, ...) driven by try_step, hitting every
-// window boundary exactly (a step that would cross it is shortened; the step size suggested before the
-// shortening is kept afterwards). make() builds a fresh stepper.
-template <bool Measure, class Make>
-OscillatorStructure run_odeint_structure(Make make, double alpha, double q0, double p0, double T, long windows) {
-  namespace odeint = boost::numeric::odeint;
-  OscillatorProbe probe(alpha, T);
-  const OscWorkRhs rhs{alpha};
-  auto st = make();
-  OscWorkState x{q0, p0, 0};
-  int scale = 0;
-  double t = 0, dt = 0.01;
-  long steps = 0, fails = 0;
-  if (Measure) probe.boundary(0, x[0], x[1], 0, 0);
-  for (long k = 1; k <= windows; ++k) {
-    const double tb = k == windows ? T : T * static_cast<double>(k) / static_cast<double>(windows);
-    x[2] = 0;
-    while (t < tb) {
-      const bool clamped = dt >= tb - t;
-      const double dt_before = dt;
-      double dt_try = clamped ? tb - t : dt;
-      if (st.try_step(rhs, x, t, dt_try) == odeint::success) {
-        check_adaptive_steps(++steps, t, T);
-        fails = 0;
-        if (clamped) {
-          t = tb;
-          dt = std::max(dt_try, dt_before);
-        } else {
-          dt = dt_try;
-        }
-        if (Measure) probe.point(t, x[0], x[1], scale);
-      } else {
-        dt = dt_try;
-        if (++fails > 1000 || !(dt > 0)) throw NumericalFailure(steps, "step size", "no acceptable step at t = " + show(t));
-      }
-      if (!std::isfinite(x[0]) || !std::isfinite(x[1])) throw NumericalFailure(steps, "state", "non-finite q or p at t = " + show(t));
-    }
-    if (Measure) probe.boundary(t, x[0], x[1], scale, x[2]);
-    if (const int sh = detail::renormalise(x, scale)) {
-      if constexpr (detail::has_reset<decltype(st)>::value) st.reset();  // a stored derivative (FSAL) is stale now
-      if (Measure) probe.rescaled(sh);
-    }
-  }
-  do_not_optimize(x[0]);
-  return Measure ? probe.result(steps) : OscillatorStructure{};
-}
-
-namespace detail {
-inline int gsl_osc_work_rhs(double, const double y[], double f[], void* params) {
-  const double alpha = *static_cast<const double*>(params);
-  f[0] = y[1];
-  f[1] = -y[0] - alpha * y[1];
-  f[2] = alpha * y[1] * y[1];
-  return GSL_SUCCESS;
-}
-}  // namespace detail
-
-// GSL's rk8pd (Prince–Dormand 8(9)) with gsl_odeiv2_control_y_new(tol, tol), evolve_apply hitting each boundary.
-template <bool Measure>
-OscillatorStructure run_gsl_rk8pd_structure(double tol, double alpha, double q0, double p0, double T, long windows) {
-  OscillatorProbe probe(alpha, T);
-  double a = alpha;
-  gsl_odeiv2_system sys{detail::gsl_osc_work_rhs, nullptr, 3, &a};
-  GslEvolve gsl(gsl_odeiv2_step_rk8pd, 3, tol, tol);
-  double t = 0, dt = 0.01, y[3] = {q0, p0, 0};
-  int scale = 0;
-  long steps = 0;
-  if (Measure) probe.boundary(0, y[0], y[1], 0, 0);
-  for (long k = 1; k <= windows; ++k) {
-    const double tb = k == windows ? T : T * static_cast<double>(k) / static_cast<double>(windows);
-    y[2] = 0;
-    while (t < tb) {
-      if (gsl.apply(sys, t, tb, dt, y) != GSL_SUCCESS || !std::isfinite(y[0]) ||
-          !std::isfinite(y[1]))
-        throw NumericalFailure(steps, "state", "gsl_odeiv2_evolve_apply failed at t = " + show(t));
-      check_adaptive_steps(++steps, t, T);
-      if (Measure) probe.point(t, y[0], y[1], scale);
-    }
-    if (Measure) probe.boundary(t, y[0], y[1], scale, y[2]);
-    const int sh = renormalisation_shift(y[0], y[1]);
-    if (sh) {
-      y[0] = std::ldexp(y[0], sh);
-      y[1] = std::ldexp(y[1], sh);
-      scale -= sh;
-      gsl.reset();
-      if (Measure) probe.rescaled(sh);
-    }
-  }
-  do_not_optimize(y[0]);
-  return Measure ? probe.result(steps) : OscillatorStructure{};
+    if (measure) probe.rescaled(sh);
+    return true;
+  };
+  const BaselineObserver observe = [&](std::size_t k, double t, const double* x) {
+    if (k == 0)
+      probe.boundary(0, x[0], x[1], 0, 0);
+    else
+      probe.point(t, x[0], x[1], scale);
+  };
+  const OdeRhs f = [alpha](double, const double* x, double* dx) {
+    dx[0] = x[1];
+    dx[1] = -x[0] - alpha * x[1];
+    dx[2] = alpha * x[1] * x[1];
+  };
+  const BaselineCount n = run_baseline(b, f, {q0, p0, 0}, measure ? &observe : nullptr);
+  return measure ? probe.result(n.steps) : OscillatorStructure{};
 }
 
 }  // namespace geomint
