@@ -14,6 +14,7 @@ int long_horizon_oscillator(int argc, char** argv);  // decay rate, frequency, p
 int long_horizon_forced(int argc, char** argv);      // steady-state amplitude and phase
 int long_horizon_foucault(int argc, char** argv);    // precession, decay, constraint drift, both constraints
 int long_horizon_kepler(int argc, char** argv);      // phase, angular-momentum law, energy, Laplace–Runge–Lenz
+int long_horizon_knife_edge(int argc, char** argv);  // heading law, constraint drift (a study of the studies layer)
 int long_horizon_generic(int argc, char** argv);     // any system: max error in q over the horizons
 
 namespace geomint {
@@ -30,7 +31,8 @@ inline const std::vector<LongHorizonStudy>& long_horizon_studies() {
       {"oscillator", long_horizon_oscillator, "decay rate, frequency, phase, energy balance"},
       {"forced-oscillator", long_horizon_forced, "steady-state amplitude and phase"},
       {"foucault", long_horizon_foucault, "precession and decay rates, constraint drift (both constraints)"},
-      {"kepler", long_horizon_kepler, "phase, angular-momentum law, energy, Laplace-Runge-Lenz vector"}};
+      {"kepler", long_horizon_kepler, "phase, angular-momentum law, energy, Laplace-Runge-Lenz vector"},
+      {"knife-edge", long_horizon_knife_edge, "heading law, constraint drift"}};
   return studies;
 }
 

@@ -11,6 +11,7 @@
 
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
+#include "geomint/studies/long_horizon_study.hpp"
 #include "geomint/study.hpp"
 #include "geomint/work_precision.hpp"
 
@@ -156,6 +157,34 @@ inline void draw_saved(const std::filesystem::path& dir, const std::string& stem
   const auto d = plots::read_tsv(dir / (stem + ".tsv"));
   const auto tt = plots::read_tsv(dir / (stem + "_timings.tsv"));
   draw(Table{d, tt, group, horizon}, measures, horizon_value, title, dir / stem);
+}
+
+// What a study of long_horizon_study (studies/long_horizon_study.hpp) writes: <stem>.tsv (method, family, <group>,
+// T, knob, value, steps, evals, the measures: the same bits for the same command), <stem>_timings.tsv, the summary
+// <stem>_summary.tsv, and the figure at the longest horizon drawn from the saved files. `group` names the parameter
+// the points are grouped by (its value at every point: `group_value`).
+inline void write_study(const std::filesystem::path& dir, const std::string& stem, const Params& params,
+                        const LongHorizonResult& result, const std::vector<Measure>& measures, const std::string& group,
+                        double group_value, const std::string& title) {
+  std::vector<WorkPoint> pts = result.points;
+  for (auto& p : pts) p.group = group_value;
+  std::vector<std::string> head{"method", "family", group, "T", "knob", "value", "steps", "evals"};
+  for (const auto& m : measures) head.push_back(m.column);
+  TsvWriter data(dir / (stem + ".tsv"), "long_horizon", params, head);
+  TsvWriter tim(dir / (stem + "_timings.tsv"), "long_horizon", params,
+                {"method", "family", group, "T", "knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& p = pts[i];
+    std::vector<std::string> row{p.method, p.family, format_cell(p.group), format_cell(p.horizon), p.knob,
+                                 format_cell(p.value), std::to_string(p.steps), format_cell(result.evaluations[i])};
+    for (double e : p.errors) row.push_back(format_cell(e));
+    data.write_row(row);
+    tim.row(p.method, p.family, p.group, p.horizon, p.knob, p.value, p.time.median, p.time.min, p.time.max, p.time.reps);
+  }
+  data.commit();
+  tim.commit();
+  summarise(pts, measures, group, "T", dir / (stem + "_summary.tsv"), "long_horizon", params);
+  draw_saved(dir, stem, group, "T", measures, format_number(work_horizons(pts).back()), title);
 }
 
 }  // namespace geomint::long_horizon
