@@ -17,7 +17,7 @@
 
 #include "bench_table.hpp"
 #include "geomint/cli.hpp"
-#include "geomint/ensemble.hpp"
+#include "geomint/oscillator_ensemble.hpp"
 #include "geomint/error.hpp"
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/io.hpp"

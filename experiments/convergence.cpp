@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const std::string stem = sys.name + "_convergence";
 
-    // The study (core/include/geomint/study.hpp): every (combination, scheme, h) run, shared by the ranks under
+    // The study (studies/include/geomint/study.hpp): every (combination, scheme, h) run, shared by the ranks under
     // mpirun; rank 0 writes.
     const Sweep& sweep = Sweep::world();
     const ConvergenceStudy study = convergence_study(sys, combos, schemes, hs, path, ref_kind, tol, sweep, norm);

@@ -1,4 +1,4 @@
-// Long-horizon structure: the measures of core/include/geomint/long_horizon.hpp recover the exact
+// Long-horizon structure: the measures of studies/include/geomint/oscillator_structure.hpp recover the exact
 // values on the closed-form solution and the one-step spectra of the schemes; the one-step maps contract
 // phase-space area by exactly their derived determinant.
 #include <cmath>
@@ -11,7 +11,7 @@
 
 #include "geomint/foucault_diagnostics.hpp"
 #include "geomint/generic/dual.hpp"
-#include "geomint/long_horizon.hpp"
+#include "geomint/oscillator_structure.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/systems/oscillator.hpp"
 #include "geomint/study.hpp"

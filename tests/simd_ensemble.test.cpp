@@ -5,7 +5,7 @@
 
 #include <cstring>
 
-#include "geomint/ensemble.hpp"
+#include "geomint/oscillator_ensemble.hpp"
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/systems/oscillator.hpp"
 #include "geomint/simd.hpp"

@@ -1,6 +1,6 @@
 // Long-horizon work–precision for the damped oscillator q'' = -q - alpha q': what the structure costs.
 // x-axis: CPU time per run (median of repeats after a warm-up); y-axis: a structural error over the whole horizon
-// (core/include/geomint/long_horizon.hpp defines and justifies the measures):
+// (studies/include/geomint/oscillator_structure.hpp defines and justifies the measures):
 //   decay   |alpha_fit - alpha| / alpha, alpha_fit the least-squares exponent of Q = q^2 + alpha q p + p^2
 //   freq    |omega_fit - omega| / omega, omega_fit the least-squares slope of the unwrapped phase
 //   phase   |theta(T) - theta(0) - omega T| (rad): the phase error accumulated over the horizon
@@ -29,7 +29,7 @@
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/io.hpp"
-#include "geomint/long_horizon.hpp"
+#include "geomint/oscillator_structure.hpp"
 #include "geomint/systems/oscillator.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"

@@ -11,7 +11,7 @@
 
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
-#include "geomint/studies/long_horizon_study.hpp"
+#include "geomint/long_horizon_study.hpp"
 #include "geomint/study.hpp"
 #include "geomint/work_precision.hpp"
 

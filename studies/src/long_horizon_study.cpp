@@ -1,5 +1,5 @@
 // The long-horizon study of any system (studies/long_horizon_study.hpp).
-#include "geomint/studies/long_horizon_study.hpp"
+#include "geomint/long_horizon_study.hpp"
 
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
