@@ -54,7 +54,6 @@ TEST_CASE("long_horizon: --help --system X shows X's study", "[programs][long_ho
   check_rejected("long_horizon", "--system pendulum --alpha 0.1 0.2 --q0 1 2", "sweeps one parameter besides the horizon");
   check_rejected("long_horizon", "--system pendulum --horizons 0.5", "horizons must be multiples of T");
   check_rejected("long_horizon", "--system pendulum --rel-target 0", "rel-target must be a positive error");
-  check_rejected("long_horizon", "--system pendulum --baselines gsl-rk8pd", "'gsl-rk8pd' has no dense output, which this study");
 }
 
 TEST_CASE("long-horizon programs give byte-identical error files for the same command", "[programs][reproducible][long_horizon]") {

@@ -43,7 +43,6 @@ const BadInput bad_inputs[] = {
     {"stability", "--schemes nosuch", "unknown scheme"},
     {"work_precision", "--system foucault --alpha=-1", "alpha"},
     {"work_precision", "--baselines nosuch", "unknown baseline 'nosuch'"},
-    {"work_precision", "--baselines gsl-rk8pd", "needs --adaptive-error steps"},
     {"work_precision", "--system pendulum --adaptive-error steps", "needs a closed-form solution"},
     // every header system writes its equations by hand; a system written as formulas has only those derived from L
     {"work_precision", "--system-file " GEOMINT_SOURCE_DIR "/docs/systems/pendulum.geomint --equations rhs", "no hand-written rhs"},

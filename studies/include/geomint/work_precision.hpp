@@ -157,8 +157,8 @@ struct WorkPrecisionOptions {
 // a factor 1e6 every method's err_rel on the pendulum at T = 2000 stopped at the same 4.9e-6).
 double relative_size_floor(const SystemInfo& sys, const WorkPrecisionOptions& opt);
 
-// odeint-rk4 (over h), odeint-dopri5, odeint-bulirsch-stoer and gsl-rk8pd (over tol; GSL's has no dense output,
-// so it needs at_steps).
+// odeint-rk4 (over h), odeint-dopri5, odeint-bulirsch-stoer and gsl-rk8pd (over tol; GSL's has no dense output:
+// on the output grid it is stepped to each output time, its last step there shortened).
 const std::vector<std::string>& work_precision_baselines();
 
 struct WorkPrecisionStudy {
