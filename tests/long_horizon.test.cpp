@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 #include <gsl/gsl_integration.h>
+#include <boost/math/constants/constants.hpp>
 
 #include "geomint/foucault_diagnostics.hpp"
 #include "geomint/generic/dual.hpp"
@@ -21,7 +22,7 @@ using Osc = systems::Oscillator;
 
 namespace {
 
-constexpr double kTwoPi = 6.28318530717958647692;
+const double kTwoPi = boost::math::constants::two_pi<double>();
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
 // alpha int_a^b p(t)^2 dt on the closed-form solution, by GSL's adaptive Gauss–Kronrod (qag, 61 points, relative 1e-12).

@@ -24,6 +24,7 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_multifit.h>
+#include <boost/math/constants/constants.hpp>
 
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
@@ -40,7 +41,7 @@ using State2 = std::array<double, 2>;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+const double kPi = boost::math::constants::pi<double>();
 
 struct Fit {
   double amp = missing_value, phase = missing_value;

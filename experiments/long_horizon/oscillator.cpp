@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <boost/math/constants/constants.hpp>
 
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
@@ -41,7 +42,7 @@ using namespace geomint;
 
 namespace {
 
-constexpr double kTwoPi = 6.28318530717958647692;
+const double kTwoPi = boost::math::constants::two_pi<double>();
 
 struct Measure {
   const char* column;

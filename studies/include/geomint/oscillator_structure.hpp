@@ -31,6 +31,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <boost/math/constants/constants.hpp>
 
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
@@ -136,7 +137,7 @@ class OscillatorProbe {
   }
 
  private:
-  static constexpr double two_pi = 6.28318530717958647692, ln2 = 0.693147180559945309417;
+  static constexpr double two_pi = boost::math::constants::two_pi<double>(), ln2 = boost::math::constants::ln_two<double>();
   double alpha_, omega_, T_;
   bool started_ = false;
   double theta0_ = 0, theta_ = 0, t0_ = 0, t_last_ = 0, E_last_ = 0, balance_ = 0;
