@@ -42,7 +42,7 @@ TEST_CASE("long-horizon programs reject bad input with one line, exit 2, and wri
 TEST_CASE("long_horizon: --help --system X shows X's study", "[programs][long_horizon]") {
   const std::vector<std::pair<std::string, std::string>> own{
       {"oscillator", "--window-periods"}, {"foucault", "--beta"}, {"forced-oscillator", "--omega"},
-      {"kepler", "--reference-tol"}, {"pendulum", "--horizons"}, {"duffing", "--rel-target"}};
+      {"kepler", "--reference-tol"}, {"knife-edge", "--methods"}, {"pendulum", "--horizons"}, {"duffing", "--rel-target"}};
   for (const auto& [system, option] : own) {
     const auto r = run_program("long_horizon", "--help --system " + system);
     INFO(system << ": " << r.out);
