@@ -70,7 +70,7 @@ int long_horizon_knife_edge(int argc, char** argv) {
   require(param_value(pv, sys, "kappa") / param_value(pv, sys, "I") > std::pow(param_value(pv, sys, "alpha"), 2) / 4,
           "the heading must be under-damped (kappa/I > alpha^2/4): its law is measured by its phase");
   spec.measures = {{"heading_err", "heading error against its closed form (rad)", 1e-6},
-                   {"constraint_err", "constraint |sin(th) x' - cos(th) y'| (m/s)", 1e-8}};
+                   {"constraint_err", "constraint drift |sin(th) vx - cos(th) vy| (m/s)", 1e-8}};
   spec.probe = [&](const ParamValues& at) { return std::make_unique<HeadingProbe>(sys, at); };
   check_long_horizon(sys, pv, spec);
   const auto dir = prepare_output_dir(cli.out);
