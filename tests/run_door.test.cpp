@@ -72,7 +72,7 @@ TEST_CASE("run_baseline: every adaptive baseline meets its tolerance at the outp
   }
 }
 
-TEST_CASE("run_baseline: windows that change nothing leave rk4's bits alone; a blow-up says where", "[run][baselines]") {
+TEST_CASE("run_baseline: windows that change nothing leave rk4's bits alone, and a blow-up says where", "[run][baselines]") {
   auto run = [](long windows) {
     BaselineSetup b;
     b.name = "odeint-rk4";
