@@ -3,7 +3,7 @@
 // and force corrections (LA), the Herglotz Lagrangian's (contact), the constraint rows' (where linear in the
 // velocities), the consistent initial velocity — certifies it (orders 1..K of the surrogate's own modified
 // equation vanish as formulas; in numbers its defect falls like h^(K+1)), and writes it as a system file that every
-// program runs (--system-file, with --h equal to the step).
+// program runs (--system-file, with its parameter --step equal to the step the run takes).
 //   surrogate --system-file docs/systems/oscillator.geomint [--schemes la contact] [--order 2] [--step 0.1]
 //             [--budget 120] [--out out]
 // Writes, for system X (the file's name):
@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"),
         "schemes: la, contact, la-midpoint, la-trapezoid, contact-trapezoid")(
         "order", po::value(&K)->default_value(K), "order K of the surrogate (1..5)")(
-        "step", po::value(&step)->default_value(step), "the default of the surrogate's step parameter h in its file")(
+        "step", po::value(&step)->default_value(step), "the default of the surrogate's step parameter (step) in its file")(
         "budget", po::value(&budget)->default_value(budget), "time budget, seconds per scheme");
     if (!cli.parse(argc, argv)) return 0;
     require(!file.empty(), "--system-file is required: a surrogate is built from a system's formulas");

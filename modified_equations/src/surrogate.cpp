@@ -32,8 +32,9 @@ std::string tex_of(const std::string& name) {
 }
 }  // namespace
 
-Symbols::Symbols(const formula::FormulaModel& base) : t("t"), z("z"), h("h") {
-  step = base.parameter_index("h") >= 0 ? "hstep" : "h";
+// The step is a parameter named `step` (not h: programs have options --h and a system's parameters become options).
+Symbols::Symbols(const formula::FormulaModel& base) : t("t"), z("z"), h("step") {
+  step = base.parameter_index("step") >= 0 ? "surrogate_step" : "step";
   h = GiNaC::symbol(step, "h");
   for (int i = 1; i <= base.n; ++i) {
     q.emplace_back("q" + std::to_string(i), "q_{" + std::to_string(i) + "}");

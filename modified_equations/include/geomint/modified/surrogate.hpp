@@ -26,8 +26,8 @@
 // Certification: the engine, run once more on the final surrogate, gives F_1 .. F_K (Z_k, phi_k) = 0 symbolically,
 // and the same engine in numbers, on the surrogate read back from its own system file, gives them at round-off.
 //
-// The surrogate is a formula system (a system file): the base's parameters plus the step h, which a run must set to
-// the step it takes (SurrogateSystem::step_parameter). Its initial velocity is the one whose momentum (the
+// The surrogate is a formula system (a system file): the base's parameters plus the step h, a parameter named
+// `step`, which a run must set to the step it takes (SurrogateSystem::step_parameter). Its initial velocity is the one whose momentum (the
 // continuous momentum of L~, as the stepper starts) is the scheme's discrete momentum along the base's exact flow,
 // to order K: without it a first-order scheme would stay first order whatever L~.
 #include <memory>
@@ -61,7 +61,7 @@ struct SurrogateSystem {
   bool stopped = false;           // the budget ran out
   std::string why_short;          // why K < K_asked when not the budget ("" otherwise)
   double seconds = 0, budget = 0;
-  std::string step_parameter = "h";
+  std::string step_parameter = "step";
   bool force_free = true;         // the corrections of an LA scheme stayed in the Lagrangian (no force added)
   bool constraint_linear = true;  // every constraint correction was linear in the velocities
   std::vector<SurrogateTerm> terms;
