@@ -30,6 +30,9 @@ modified_equation --formulas
 modified_equation --system oscillator --order 3 --formulas
 modified_equation --system knife-edge --order 2 --q 0 0 0.3 --v 1 0 0.5 --formulas
 modified_equation --system foucault --schemes la --order 3 --q 0 0.67 --v 3.687e-5 0 --formulas
+surrogate --system-file docs/systems/oscillator.geomint --schemes la contact --order 2
+surrogate --system-file docs/systems/foucault.geomint --schemes la --order 2
+surrogate --system-file docs/systems/knife-edge.geomint --schemes la-midpoint la contact --order 2
 convergence --system pendulum
 regularized_error --system forced-oscillator --alpha 0.01 0.1 1 2
 convergence --system forced-oscillator --alpha 0.01 0.1 1 2

@@ -174,7 +174,28 @@ std::vector<ex> start_velocity(const ex& L, const std::vector<std::vector<ex>>& 
   return V;
 }
 
-void certify_numerically(SurrogateSystem& s, const std::shared_ptr<const formula::FormulaModel>& base) {
+GiNaC::exmap projection(const std::vector<ex>& phi, const Symbols& sy) {
+  const unsigned m = static_cast<unsigned>(phi.size()), n = static_cast<unsigned>(sy.v.size());
+  GiNaC::matrix A(m, n), b(m, 1), v(n, 1);
+  GiNaC::exmap at0;
+  for (unsigned i = 0; i < n; ++i) {
+    at0[sy.v[i]] = 0;
+    v(i, 0) = sy.v[i];
+  }
+  for (unsigned c = 0; c < m; ++c) {
+    b(c, 0) = phi[c].subs(at0);
+    for (unsigned i = 0; i < n; ++i) A(c, i) = phi[c].diff(sy.v[i]);
+  }
+  const GiNaC::matrix At = A.transpose();
+  const GiNaC::matrix S = A.mul(At).inverse();
+  const GiNaC::matrix P = v.sub(At.mul(S).mul(A.mul(v).add(b)));
+  GiNaC::exmap out;
+  for (unsigned i = 0; i < n; ++i) out[sy.v[i]] = simplify_coefficient(P(i, 0));
+  return out;
+}
+
+void certify_numerically(SurrogateSystem& s, const std::shared_ptr<const formula::FormulaModel>& base,
+                         const GiNaC::exmap& proj, const Symbols& sy) {
   const auto sur = formula_modified_system(formula::compile_model(s.description));
   const auto b = formula_modified_system(base);
   const int n = base->n;
@@ -192,6 +213,17 @@ void certify_numerically(SurrogateSystem& s, const std::shared_ptr<const formula
       p.q.push_back(u(rng));
       p.v.push_back(u(rng));
     }
+    if (!proj.empty()) {  // onto the base's constraint, at its parameters' defaults
+      GiNaC::exmap at;
+      at[sy.t] = p.t;
+      for (int i = 0; i < n; ++i) {
+        at[sy.q[static_cast<std::size_t>(i)]] = p.q[static_cast<std::size_t>(i)];
+        at[sy.v[static_cast<std::size_t>(i)]] = p.v[static_cast<std::size_t>(i)];
+      }
+      for (std::size_t j = 0; j < sy.params.size(); ++j) at[sy.params[j]] = base->parameters[j].value;
+      for (int i = 0; i < n; ++i)
+        p.v[static_cast<std::size_t>(i)] = GiNaC::ex_to<GiNaC::numeric>(proj.at(sy.v[static_cast<std::size_t>(i)]).subs(at).evalf()).to_double();
+    }
     points.push_back(p);
   }
   s.defect_h.clear();
@@ -207,6 +239,11 @@ void certify_numerically(SurrogateSystem& s, const std::shared_ptr<const formula
         double g = 0;
         for (int k = J; k >= 0; --k) g = g * h0 + m.F_at(k, i);
         d = std::max(d, std::abs(g - b0.F_at(0, i)));
+      }
+      for (int c = 0; c < m.m && !m.holonomic; ++c) {  // the modified constraint against the base's rows
+        double g = 0;
+        for (int k = J; k >= 0; --k) g = g * h0 + m.phi[static_cast<std::size_t>(k * m.m + c)];
+        d = std::max(d, std::abs(g - b0.phi[static_cast<std::size_t>(c)]));
       }
       if (m.contact) {
         double g = 0;

@@ -58,7 +58,11 @@ bool affine_in_velocities(const ex& e, const Symbols& sy);
 // v~ = v + sum_{k=1..K} h^k w_k with dL/dq'(t, q, v~, z) = sum_k h^k P[k] (to h^K), L polynomial in h.
 std::vector<ex> start_velocity(const ex& L, const std::vector<std::vector<ex>>& P, int K, const Symbols& sy);
 // The numeric half of the certification (SurrogateSystem::defect).
-void certify_numerically(SurrogateSystem& s, const std::shared_ptr<const formula::FormulaModel>& base);
+// Random points are put on the base's constraint by `proj` (v -> projected v, empty without velocity rows).
+void certify_numerically(SurrogateSystem& s, const std::shared_ptr<const formula::FormulaModel>& base,
+                         const GiNaC::exmap& proj, const Symbols& sy);
+// v -> v - A^T (A A^T)^{-1} (A v + b) for the rows phi = A v + b: onto the constraint, affine in v.
+GiNaC::exmap projection(const std::vector<ex>& phi, const Symbols& sy);
 
 template <int N, int M, bool Hol, int Kmax, class C>
 using SurrogateSeries = BiSeries<Kmax + (M > 0 ? (Hol ? 2 : 1) : 0), Kmax + 3, 2, C>;
@@ -201,6 +205,7 @@ class Builder {
   Builder(std::shared_ptr<const formula::FormulaModel> base, double budget, double step)
       : base_(std::move(base)), sy_(*base_), budget_{budget}, step_(step) {
     d0_ = base_data<N, M, Hol>(base_, sy_);
+    if constexpr (M > 0 && !Hol) proj_ = projection(d0_.phi, sy_);
     if (contact && !d0_.has_herglotz)
       throw InputError("system '" + base_->name + "' has no Herglotz Lagrangian: the contact schemes have no surrogate");
   }
@@ -237,15 +242,17 @@ class Builder {
       }
       if constexpr (M > 0 && !Hol) {
         bool any = false;
-        for (int c = 0; c < M; ++c) any = any || !zero(r.phi[static_cast<std::size_t>(k)](c));
+        for (int c = 0; c < M; ++c) any = any || !zero_on(r.phi[static_cast<std::size_t>(k)](c));
         if (any) {
           for (int c = 0; c < M; ++c) {
-            const ex psi = simplify_coefficient(-r.phi[static_cast<std::size_t>(k)](c));
+            // only its values on the constraint matter (the rows are defined up to multiples of themselves): phi_k
+            // at the projected velocity, affine in v exactly when phi_k is affine on the constraint
+            const ex psi = on(-r.phi[static_cast<std::size_t>(k)](c));
             if (!affine_in_velocities(psi, sy_)) {
               out.constraint_linear = false;
               out.terms.push_back(term("phi" + std::to_string(c + 1), k, psi, sy_));
               out.why_short = "the modified constraint's phi_" + std::to_string(k) + " (row " + std::to_string(c + 1) +
-                              ") is not linear in the velocities: " + formula_text(-psi) +
+                              ") is not linear in the velocities on the constraint: " + formula_text(display_form(-psi)) +
                               "; constraint rows A(t, q) q' + b(t, q) cannot cancel it";
             } else {
               d.phi[static_cast<std::size_t>(c)] += GiNaC::pow(sy_.h, k) * psi;
@@ -308,26 +315,24 @@ class Builder {
       Kc = Kc + 1;
       r = run(d, Kc);
     }
+    int first = r.K + 1;  // the first order that does not vanish (the scheme's order on the surrogate)
     for (int k = 1; k <= r.K; ++k) {
       SurrogateCheck c;
       c.k = k;
       c.symbolic_zero = vanishes(r, k);
       if (k > reached && !c.symbolic_zero) c.leading = leading(r, k);
       out.checks.push_back(c);
-      if (k > reached && !c.symbolic_zero) break;
-    }
-    // the start: the initial velocity whose momentum is the scheme's discrete momentum on the base's flow
-    {
-      Engine me(model_system(d));
-      typename Engine::Result rs;
-      Vec<ex, N> q, v;
-      for (int i = 0; i < N; ++i) {
-        q(i) = sy_.q[static_cast<std::size_t>(i)];
-        v(i) = sy_.v[static_cast<std::size_t>(i)];
+      if (k > reached && !c.symbolic_zero) {
+        first = k;
+        break;
       }
-      me.evaluate(sy_.t, q, v, sy_.z, reached, rs);
-      const auto Pk = discrete_momentum<G, Engine>(me.system(), ex(sy_.t), rs);
-      const std::vector<ex> vt = start_velocity(contact ? d.Hg : d.L, Pk, reached, sy_);
+    }
+    // the start: the initial velocity whose momentum is the scheme's discrete momentum on the base's flow, to the
+    // order below the first that does not vanish (a symmetric scheme's start has odd terms too: to h^(K+1))
+    {
+      const int start_order = std::min(first - 1, r.K);
+      const auto Pk = discrete_momentum<G, Engine>(model_system(d), ex(sy_.t), r);
+      const std::vector<ex> vt = start_velocity(contact ? d.Hg : d.L, Pk, start_order, sy_);
       GiNaC::exmap at0;
       at0[sy_.t] = 0;
       at0[sy_.z] = 0;
@@ -338,7 +343,7 @@ class Builder {
       for (int i = 0; i < N; ++i) {
         d.v0[static_cast<std::size_t>(i)] = vt[static_cast<std::size_t>(i)].subs(at0);
         const ex w = (vt[static_cast<std::size_t>(i)] - sy_.v[static_cast<std::size_t>(i)]).expand();
-        for (int k = 1; k <= reached; ++k)
+        for (int k = 1; k <= start_order; ++k)
           if (!zero(w.coeff(sy_.h, k)))
             out.terms.push_back(term("v" + std::to_string(i + 1), k, simplify_coefficient(w.coeff(sy_.h, k)), sy_));
       }
@@ -350,7 +355,7 @@ class Builder {
     out.description = describe(d, sy_, *base_, name, what, step_);
     out.file_text = system_file_text(out.description);
     // the same in numbers, on the surrogate read back from its file
-    certify_numerically(out, base_);
+    certify_numerically(out, base_, proj_, sy_);
     out.seconds = budget_.elapsed();
     return out;
   }
@@ -381,13 +386,15 @@ class Builder {
     return Mm;
   }
   // F_k, Z_k, phi_k of order k all zero.
-  static bool vanishes(const typename Engine::Result& r, int k) {
+  ex on(const ex& e) const { return proj_.empty() ? e : simplify_coefficient(e.subs(proj_)); }
+  bool zero_on(const ex& e) const { return zero(proj_.empty() ? e : e.subs(proj_)); }
+  bool vanishes(const typename Engine::Result& r, int k) const {
     for (int i = 0; i < N; ++i)
-      if (!zero(r.F[static_cast<std::size_t>(k)](i))) return false;
-    if (contact && !zero(r.Z[static_cast<std::size_t>(k)])) return false;
+      if (!zero_on(r.F[static_cast<std::size_t>(k)](i))) return false;
+    if (contact && !zero_on(r.Z[static_cast<std::size_t>(k)])) return false;
     if constexpr (M > 0 && !Hol)
       for (int c = 0; c < M; ++c)
-        if (!zero(r.phi[static_cast<std::size_t>(k)](c))) return false;
+        if (!zero_on(r.phi[static_cast<std::size_t>(k)](c))) return false;
     return true;
   }
   std::string lower_orders_vanish(const typename Engine::Result& r, int upto) const {
@@ -400,16 +407,16 @@ class Builder {
   std::string leading(const typename Engine::Result& r, int k) const {
     std::string s;
     for (int i = 0; i < N; ++i) {
-      const ex e = r.F[static_cast<std::size_t>(k)](i);
+      const ex e = on(r.F[static_cast<std::size_t>(k)](i));
       if (!zero(e)) s += (s.empty() ? "" : "; ") + std::string("F") + std::to_string(i + 1) + "_" + std::to_string(k) + " = " + formula_text(display_form(e));
     }
-    if (contact && !zero(r.Z[static_cast<std::size_t>(k)]))
-      s += (s.empty() ? "" : "; ") + std::string("Z_") + std::to_string(k) + " = " + formula_text(display_form(r.Z[static_cast<std::size_t>(k)]));
+    if (contact && !zero_on(r.Z[static_cast<std::size_t>(k)]))
+      s += (s.empty() ? "" : "; ") + std::string("Z_") + std::to_string(k) + " = " + formula_text(display_form(on(r.Z[static_cast<std::size_t>(k)])));
     if constexpr (M > 0 && !Hol)
       for (int c = 0; c < M; ++c)
-        if (!zero(r.phi[static_cast<std::size_t>(k)](c)))
+        if (!zero_on(r.phi[static_cast<std::size_t>(k)](c)))
           s += (s.empty() ? "" : "; ") + std::string("phi") + std::to_string(c + 1) + "_" + std::to_string(k) + " = " +
-               formula_text(display_form(r.phi[static_cast<std::size_t>(k)](c)));
+               formula_text(display_form(on(r.phi[static_cast<std::size_t>(k)](c))));
     return s;
   }
 
@@ -419,6 +426,9 @@ class Builder {
   double step_;
   Data d0_;
   std::vector<ex> a0_;
+  // v -> the velocity projected onto the base's rows (velocity constraints; empty otherwise): a quantity vanishes
+  // where the discrete solution lives when it vanishes on the constraint, i.e. after this substitution
+  GiNaC::exmap proj_;
 };
 
 // The shape's entry: the scheme by name.
