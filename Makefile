@@ -97,7 +97,8 @@ test: build
 	@cd $(BUILD) && ctest --output-on-failure --no-tests=error -j$(JOBS)
 
 # Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor; the
-# generic step against the closed forms; seconds to derive the modified equations as formulas; a composition step
+# generic step against the closed forms; seconds to derive the modified equations as formulas, and to build a surrogate
+# (and its step against the base's); a composition step
 # against its stages alone; systems written as formulas against the same systems as headers (Google Benchmark);
 # a million steps called from Python against the same registry call timed in C++ (timings: never part of make test).
 bench: build
@@ -109,6 +110,8 @@ bench: build
 	@$(BUILD)/experiments/bench_generic --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_symbolic --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_surrogate --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_compose --out $(OUT)
 	@echo
