@@ -162,3 +162,33 @@ TEST_CASE("surrogate requests that cannot be met are refused with the reason", "
   CHECK_THROWS_AS(modified::build_surrogate(base, "la", 1, -1), InputError);
   CHECK_THROWS_AS(modified::build_surrogate(pendulum(), "contact", 1), InputError);  // no Herglotz Lagrangian
 }
+
+TEST_CASE("surrogate of LA on the paper's Foucault pendulum: the rows corrected linearly, order 1 -> 2", "[surrogate]") {
+  const auto base = file_model("foucault");
+  const auto s = modified::build_surrogate(base, "la", 1);
+  certified(s, 1, 2);
+  CHECK(s.constraint_linear);
+  CHECK(term_count(s, "phi1") == 1);  // phi_1 = -s (x x' + y y'), linear in the velocities: the row takes its opposite
+  const Orders o = orders(base, s, {{"T", 4.0}}, 0.1, 4);
+  INFO("base: " << o.base_fit.describe() << "; surrogate: " << o.surrogate_fit.describe());
+  CHECK(o.base_fit.slope == Approx(1).margin(0.1));
+  CHECK(o.surrogate_fit.slope == Approx(2).margin(0.1));
+}
+
+TEST_CASE("surrogates on the knife edge: the midpoint rule's exists (order 2 -> 4), LA's cannot", "[surrogate]") {
+  const auto base = file_model("knife-edge");
+  // LA keeps the blade's row turned by half a step of the heading: phi_1 = -(theta'/2)(velocity along the blade), a
+  // product of two velocities on the constraint, which no row A(t, q) q' + b(t, q) cancels
+  const auto la = modified::build_surrogate(base, "la", 2);
+  CHECK(la.K == 0);
+  CHECK_FALSE(la.constraint_linear);
+  CHECK(la.why_short.find("not linear in the velocities on the constraint") != std::string::npos);
+  // the midpoint rule: phi_1 = 0, phi_2 affine on the constraint (its quadratic part is theta'^2 times the row)
+  const auto s = modified::build_surrogate(base, "la-midpoint", 2);
+  certified(s, 2, 4);
+  CHECK(s.constraint_linear);
+  const Orders o = orders(base, s, {{"T", 10.0}}, 0.2, 4);
+  INFO("base: " << o.base_fit.describe() << "; surrogate: " << o.surrogate_fit.describe());
+  CHECK(o.base_fit.slope == Approx(2).margin(0.1));
+  CHECK(o.surrogate_fit.slope == Approx(4).margin(0.1));
+}
