@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"),
         "schemes: la, contact, la-midpoint, la-trapezoid, contact-trapezoid")(
         "order", po::value(&K)->default_value(K), "order K of the surrogate (1..5)")(
-        "step", po::value(&step)->default_value(step), "the default of the surrogate's step parameter (step) in its file")(
+        "step", po::value(&step)->default_value(step, "0.1"), "the default of the surrogate's step parameter (step) in its file")(
         "budget", po::value(&budget)->default_value(budget), "time budget, seconds per scheme");
     if (!cli.parse(argc, argv)) return 0;
     require(!file.empty(), "--system-file is required: a surrogate is built from a system's formulas");

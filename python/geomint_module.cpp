@@ -410,6 +410,22 @@ py::dict modified_equation(const System& s, const std::string& scheme, int K, do
   return d;
 }
 
+// Formulas as dicts {quantity, k, text, mathematica, latex}: a modified equation's rows, a surrogate's corrections.
+template <class Row>
+py::list formula_rows(const std::vector<Row>& rows) {
+  py::list out;
+  for (const auto& r : rows) {
+    py::dict row;
+    row["quantity"] = r.quantity;
+    row["k"] = r.k;
+    row["text"] = r.text;
+    row["mathematica"] = r.mathematica;
+    row["latex"] = r.latex;
+    out.append(row);
+  }
+  return out;
+}
+
 py::dict modified_formulas(const System& s, const std::string& scheme, int K, double budget, const py::dict& params) {
   const ParamValues pv = param_values(params);
   modified::formula_scheme(s.info(), scheme);
@@ -420,16 +436,7 @@ py::dict modified_formulas(const System& s, const std::string& scheme, int K, do
     py::gil_scoped_release release;
     f = ms.formulas(pv, scheme, K, budget);
   }
-  py::list rows;
-  for (const auto& r : f.rows) {
-    py::dict row;
-    row["quantity"] = r.quantity;
-    row["k"] = r.k;
-    row["text"] = r.text;
-    row["mathematica"] = r.mathematica;
-    row["latex"] = r.latex;
-    rows.append(row);
-  }
+  const py::list rows = formula_rows(f.rows);
   py::dict d;
   d["K"] = f.K;
   d["K_asked"] = f.K_asked;
@@ -524,17 +531,7 @@ py::dict surrogate_info(const System& s) {
   d["step_parameter"] = b.step_parameter;
   d["force_free"] = b.force_free;
   d["constraint_linear"] = b.constraint_linear;
-  py::list terms;
-  for (const auto& t : b.terms) {
-    py::dict row;
-    row["quantity"] = t.quantity;
-    row["k"] = t.k;
-    row["text"] = t.text;
-    row["mathematica"] = t.mathematica;
-    row["latex"] = t.latex;
-    terms.append(row);
-  }
-  d["terms"] = terms;
+  d["terms"] = formula_rows(b.terms);
   py::list checks;
   for (const auto& c : b.checks) {
     py::dict row;

@@ -46,14 +46,6 @@ Symbols::Symbols(const formula::FormulaModel& base) : t("t"), z("z"), h("step") 
   }
 }
 
-GiNaC::lst Symbols::all() const {
-  GiNaC::lst l{t, z, h};
-  for (const auto& s : q) l.append(s);
-  for (const auto& s : v) l.append(s);
-  for (const auto& s : params) l.append(s);
-  return l;
-}
-
 namespace {
 std::string print(const ex& e) { return formula_text(display_form(e)); }
 }  // namespace
@@ -172,6 +164,24 @@ std::vector<ex> start_velocity(const ex& L, const std::vector<std::vector<ex>>& 
     for (std::size_t i = 0; i < n; ++i) V[i] += GiNaC::pow(sy.h, k) * simplify_coefficient(x(static_cast<unsigned>(i), 0));
   }
   return V;
+}
+
+GiNaC::exmap inverse_velocity(const std::vector<ex>& vt, int K, const Symbols& sy) {
+  const std::size_t n = sy.v.size();
+  std::vector<ex> u(sy.v.begin(), sy.v.end());  // u = v~ - W(u), W = v~(v) - v
+  for (int turn = 0; turn < K; ++turn) {
+    GiNaC::exmap at;
+    for (std::size_t i = 0; i < n; ++i) at[sy.v[i]] = u[i];
+    std::vector<ex> next(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const ex w = (vt[i] - sy.v[i]).subs(at);
+      next[i] = sy.v[i] - GiNaC::series_to_poly(w.series(sy.h == 0, K + 1));
+    }
+    u = next;
+  }
+  GiNaC::exmap out;
+  for (std::size_t i = 0; i < n; ++i) out[sy.v[i]] = simplify_coefficient(u[i].expand());
+  return out;
 }
 
 GiNaC::exmap projection(const std::vector<ex>& phi, const Symbols& sy) {

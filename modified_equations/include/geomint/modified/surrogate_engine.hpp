@@ -30,8 +30,7 @@ struct Symbols {
   std::vector<GiNaC::symbol> params;  // the base's parameters, in its order
   std::vector<std::string> names;     // their names
   std::string step;                   // h's name
-  Symbols(const formula::FormulaModel& base);
-  GiNaC::lst all() const;
+  explicit Symbols(const formula::FormulaModel& base);
 };
 
 // The surrogate's data: what a system file holds, as expressions in Symbols.
@@ -57,6 +56,8 @@ std::vector<ex> euler_lagrange_on(const ex& l, const std::vector<ex>& a, const S
 bool affine_in_velocities(const ex& e, const Symbols& sy);
 // v~ = v + sum_{k=1..K} h^k w_k with dL/dq'(t, q, v~, z) = sum_k h^k P[k] (to h^K), L polynomial in h.
 std::vector<ex> start_velocity(const ex& L, const std::vector<std::vector<ex>>& P, int K, const Symbols& sy);
+// v -> v(q, v~), the inverse of v~ = v + sum_{k=1..K} h^k w_k(t, q, v, z) to h^K (fixed point, truncated each turn).
+GiNaC::exmap inverse_velocity(const std::vector<ex>& vt, int K, const Symbols& sy);
 // The numeric half of the certification (SurrogateSystem::defect).
 // Random points are put on the base's constraint by `proj` (v -> projected v, empty without velocity rows).
 void certify_numerically(SurrogateSystem& s, const std::shared_ptr<const formula::FormulaModel>& base,
@@ -340,6 +341,11 @@ class Builder {
         at0[sy_.q[static_cast<std::size_t>(i)]] = d0_.q0[static_cast<std::size_t>(i)];
         at0[sy_.v[static_cast<std::size_t>(i)]] = d0_.v0[static_cast<std::size_t>(i)];
       }
+      // the energy at the base's velocity: along the discrete solution the velocity a run reads off p_j (through
+      // L~'s momentum) is v~(q, v) of the flow's v, so the file's E is the base's at the inverse map v(q, v~).
+      // Unconstrained systems only: with rows, the map carries the multiplier's rational functions and its normal
+      // form costs minutes (the base's E at v~ is then off by O(h), said in surrogates.md)
+      if constexpr (M == 0) d.E = d0_.E.subs(inverse_velocity(vt, start_order, sy_));
       for (int i = 0; i < N; ++i) {
         d.v0[static_cast<std::size_t>(i)] = vt[static_cast<std::size_t>(i)].subs(at0);
         const ex w = (vt[static_cast<std::size_t>(i)] - sy_.v[static_cast<std::size_t>(i)]).expand();
