@@ -4,7 +4,7 @@
 // velocities), the consistent initial velocity — certifies it (orders 1..K of the surrogate's own modified
 // equation vanish as formulas; in numbers its defect falls like h^(K+1)), and writes it as a system file that every
 // program runs (--system-file, with its parameter --step equal to the step the run takes).
-//   surrogate --system-file docs/systems/oscillator.geomint [--schemes la contact] [--order 2] [--step 0.1]
+//   surrogate [--system-file docs/systems/oscillator.geomint] [--schemes la contact] [--order 2] [--step 0.1]
 //             [--budget 120] [--out out]
 // Writes, for system X (the file's name):
 //   out/X_surrogate_formulas.txt  tab-separated: system, scheme, quantity (L, F<i>, herglotz, phi<c>, v<i>), k, text,
@@ -34,24 +34,43 @@ int main(int argc, char** argv) {
     int K = 2;
     double step = 0.1, budget = 120;
     Cli cli("surrogate", "surrogate systems: the scheme on them follows the system's equations to O(h^(K+1))");
-    cli.options.add_options()("system-file", po::value(&file), "the system, as a system file (docs/systems/README.md)")(
+    cli.options.add_options()("system-file", po::value(&file), "the system, as a system file (docs/systems/README.md); default: the paper's oscillator")(
         "schemes", po::value(&schemes)->multitoken()->default_value(schemes, "la contact"),
         "schemes: la, contact, la-midpoint, la-trapezoid, contact-trapezoid")(
         "order", po::value(&K)->default_value(K), "order K of the surrogate (1..5)")(
         "step", po::value(&step)->default_value(step, "0.1"), "the default of the surrogate's step parameter (step) in its file")(
         "budget", po::value(&budget)->default_value(budget), "time budget, seconds per scheme");
     if (!cli.parse(argc, argv)) return 0;
-    require(!file.empty(), "--system-file is required: a surrogate is built from a system's formulas");
+
     require(K >= 1 && K <= 5, "--order must be an integer in [1, 5]");
     require(std::isfinite(step) && step > 0, "--step must be a positive number");
     require(std::isfinite(budget) && budget > 0, "--budget must be a positive number of seconds");
-    const auto base = formula::load_system_file(file);
+    // without --system-file, the paper's damped oscillator (Section 3.1), as docs/systems/oscillator.geomint has it
+    const auto base = file.empty() ? formula::compile_model(formula::parse_system_file(R"(
+[system]
+name = oscillator
+description = damped harmonic oscillator (Section 3.1): q'' + alpha q' + q = 0
+coordinates = 1
+[parameters]
+alpha = 0.01   # Rayleigh damping
+q0 = -0.25     # initial position
+p0 = 0.75      # initial momentum (= velocity)
+T = 50         # horizon
+[dynamics]
+L = v1*v1/2 - q1*q1/2
+herglotz = L - alpha*z
+F1 = -alpha*v1
+[initial]
+q1 = q0
+v1 = p0
+)", "the paper's oscillator"))
+                                   : formula::load_system_file(file);
 
     std::vector<modified::SurrogateSystem> built;
     for (const auto& s : schemes) built.push_back(modified::build_surrogate(base, s, K, budget, step));
 
     const auto dir = prepare_output_dir(cli.out);
-    Params header{{"system", base->name}, {"system_file", file},        {"schemes", join_names(schemes)},
+    Params header{{"system", base->name}, {"system_file", file.empty() ? "(the paper's oscillator)" : file},        {"schemes", join_names(schemes)},
                   {"order", std::to_string(K)}, {"step", format_number(step)}, {"budget", format_number(budget)},
                   {"method", "the modified-equation engine run on the surrogate itself, one correction per order"}};
     for (const auto& s : built) {
