@@ -30,6 +30,9 @@ modified_equation --formulas
 modified_equation --system oscillator --order 3 --formulas
 modified_equation --system knife-edge --order 2 --q 0 0 0.3 --v 1 0 0.5 --formulas
 modified_equation --system foucault --schemes la --order 3 --q 0 0.67 --v 3.687e-5 0 --formulas
+surrogate --system-file docs/systems/oscillator.geomint --schemes la contact --order 2
+surrogate --system-file docs/systems/foucault.geomint --schemes la --order 2
+surrogate --system-file docs/systems/knife-edge.geomint --schemes la-midpoint la contact --order 2
 convergence --system pendulum
 regularized_error --system forced-oscillator --alpha 0.01 0.1 1 2
 convergence --system forced-oscillator --alpha 0.01 0.1 1 2
@@ -94,7 +97,8 @@ test: build
 	@cd $(BUILD) && ctest --output-on-failure --no-tests=error -j$(JOBS)
 
 # Nanoseconds per step, baselines, subnormals; ensembles scalar vs vector vs threads vs a hand-written floor; the
-# generic step against the closed forms; seconds to derive the modified equations as formulas; a composition step
+# generic step against the closed forms; seconds to derive the modified equations as formulas, and to build a surrogate
+# (and its step against the base's); a composition step
 # against its stages alone; systems written as formulas against the same systems as headers (Google Benchmark);
 # a million steps called from Python against the same registry call timed in C++ (timings: never part of make test).
 bench: build
@@ -106,6 +110,8 @@ bench: build
 	@$(BUILD)/experiments/bench_generic --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_symbolic --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_surrogate --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_compose --out $(OUT)
 	@echo

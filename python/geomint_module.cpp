@@ -26,6 +26,7 @@
 #include "geomint/modified/all_orders.hpp"
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/modified/formula_modified.hpp"
+#include "geomint/modified/surrogate.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/study.hpp"
 #include "geomint/sweep.hpp"
@@ -102,6 +103,11 @@ class System {
     if (!model_) return {};
     return formula::formula_warnings(model_, pv);
   }
+
+  const std::shared_ptr<const formula::FormulaModel>& model() const { return model_; }
+  // A surrogate (modified/surrogate.hpp): its step parameter, which a run sets to its step, and how it was built.
+  std::string step_parameter;
+  std::shared_ptr<const modified::SurrogateSystem> surrogate;
 
  private:
   std::shared_ptr<const formula::FormulaModel> model_;
@@ -184,10 +190,19 @@ py::dict ensemble(const System& s, const std::string& scheme, const py::dict& pe
   return d;
 }
 
+// A surrogate's step parameter set to the step h of the run, unless the caller set it.
+ParamValues with_step(const System& s, ParamValues pv, double h) {
+  if (s.step_parameter.empty()) return pv;
+  for (const auto& [name, x] : pv)
+    if (name == s.step_parameter) return pv;
+  pv.emplace_back(s.step_parameter, h);
+  return pv;
+}
+
 py::dict integrate(const System& s, const std::string& scheme, double h, const py::dict& params, const std::string& path,
                    long every) {
   const SystemInfo& sys = s.info();
-  const ParamValues pv = param_values(params);
+  const ParamValues pv = with_step(s, param_values(params), h);
   sys.scheme(scheme);
   require_positive(h, "h");
   require(every >= 1, "every must be a positive integer, got " + std::to_string(every));
@@ -395,6 +410,22 @@ py::dict modified_equation(const System& s, const std::string& scheme, int K, do
   return d;
 }
 
+// Formulas as dicts {quantity, k, text, mathematica, latex}: a modified equation's rows, a surrogate's corrections.
+template <class Row>
+py::list formula_rows(const std::vector<Row>& rows) {
+  py::list out;
+  for (const auto& r : rows) {
+    py::dict row;
+    row["quantity"] = r.quantity;
+    row["k"] = r.k;
+    row["text"] = r.text;
+    row["mathematica"] = r.mathematica;
+    row["latex"] = r.latex;
+    out.append(row);
+  }
+  return out;
+}
+
 py::dict modified_formulas(const System& s, const std::string& scheme, int K, double budget, const py::dict& params) {
   const ParamValues pv = param_values(params);
   modified::formula_scheme(s.info(), scheme);
@@ -405,16 +436,7 @@ py::dict modified_formulas(const System& s, const std::string& scheme, int K, do
     py::gil_scoped_release release;
     f = ms.formulas(pv, scheme, K, budget);
   }
-  py::list rows;
-  for (const auto& r : f.rows) {
-    py::dict row;
-    row["quantity"] = r.quantity;
-    row["k"] = r.k;
-    row["text"] = r.text;
-    row["mathematica"] = r.mathematica;
-    row["latex"] = r.latex;
-    rows.append(row);
-  }
+  const py::list rows = formula_rows(f.rows);
   py::dict d;
   d["K"] = f.K;
   d["K_asked"] = f.K_asked;
@@ -478,6 +500,52 @@ std::vector<formula::FormulaText> formula_list(const py::object& xs, const std::
   int i = 1;
   for (const auto& x : xs) out.push_back(formula_of(x, base + std::to_string(i++)));
   return out;
+}
+
+System surrogate(const System& s, const std::string& scheme, int order, double budget, double step) {
+  require(s.is_formula(), "system '" + s.info().name +
+                              "' is a C++ header: a surrogate is built from a system's formulas (load its file, "
+                              "geomint.load_system('docs/systems/" + s.info().name + ".geomint'))");
+  modified::SurrogateSystem built;
+  {
+    py::gil_scoped_release release;
+    built = modified::build_surrogate(s.model(), scheme, order, budget, step);
+  }
+  System out(formula::compile_model(built.description));
+  out.step_parameter = built.step_parameter;
+  out.surrogate = std::make_shared<const modified::SurrogateSystem>(std::move(built));
+  return out;
+}
+
+py::dict surrogate_info(const System& s) {
+  require(s.surrogate != nullptr, "system '" + s.info().name + "' is not a surrogate (System.surrogate builds one)");
+  const auto& b = *s.surrogate;
+  py::dict d;
+  d["base"] = b.base;
+  d["scheme"] = b.scheme;
+  d["K"] = b.K;
+  d["K_asked"] = b.K_asked;
+  d["stopped"] = b.stopped;
+  d["why_short"] = b.why_short;
+  d["seconds"] = b.seconds;
+  d["step_parameter"] = b.step_parameter;
+  d["force_free"] = b.force_free;
+  d["constraint_linear"] = b.constraint_linear;
+  d["terms"] = formula_rows(b.terms);
+  py::list checks;
+  for (const auto& c : b.checks) {
+    py::dict row;
+    row["k"] = c.k;
+    row["symbolic_zero"] = c.symbolic_zero;
+    row["leading"] = c.leading;
+    checks.append(row);
+  }
+  d["checks"] = checks;
+  d["defect_h"] = b.defect_h;
+  d["defect"] = b.defect;
+  d["defect_slope"] = b.defect_slope;
+  d["file"] = b.file_text;
+  return d;
 }
 
 System define_system(const std::string& name, int coordinates, const py::object& L, const py::object& herglotz,
@@ -682,6 +750,12 @@ PYBIND11_MODULE(_geomint, m) {
            py::arg("path") = "fast",
            "a linear system's modified equation to all orders: G = log(M)/h, the generator of the flow through every "
            "step on (q, p), and q'' = A_v q' + A_q q with p eliminated")
+      .def("surrogate", &surrogate, py::arg("scheme"), py::arg("order") = 2, py::arg("budget") = 120.0,
+           py::arg("step") = 0.1,
+           "the surrogate of a formula system for `scheme` to `order` K: a System on which the scheme follows this "
+           "system's equations to O(h^(K+1)); its parameter h is the step (integrate sets it to its h)")
+      .def_property_readonly("surrogate_info", &surrogate_info,
+                             "how a surrogate was built: its corrections (terms), certification (checks, defect) and file")
       .def("__repr__", [](const System& s) {
         return "<geomint.System " + s.info().name + ": n = " + std::to_string(s.info().dof) + ", m = " +
                std::to_string(s.info().constraints) + (s.is_formula() ? ", from formulas>" : ">");

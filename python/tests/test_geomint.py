@@ -349,6 +349,35 @@ def test_modified_equation_of_a_composition(tmp_path):
 # bad input: Python exceptions with the C++ message
 
 
+def test_a_surrogate_is_a_system_whose_step_follows_the_run(tmp_path):
+    # the paper's oscillator under la: order 1 on the base, 2 on its surrogate to K = 1 (integrate sets its step
+    # parameter to its h); the program writes the same surrogate as a system file
+    base = geomint.load_system(system_file("oscillator"))
+    sur = base.surrogate("la", order=1)
+    info = sur.surrogate_info
+    assert info["K"] == 1 and info["step_parameter"] == "step"
+    assert [c["symbolic_zero"] for c in info["checks"]] == [True, False]
+    params = {"alpha": 0.5, "T": 10}
+    hs = [0.1 / 2**k for k in range(4)]
+    err_base, err_sur = [], []
+    for h in hs:
+        ref = base.reference(h, kind="odeint", params=params)
+        err_base.append(np.max(np.abs(base.integrate("la", h, params=params, path="generic")["q"][:, 0] - ref["q"][:, 0])))
+        err_sur.append(np.max(np.abs(sur.integrate("la", h, params=params)["q"][:, 0] - ref["q"][:, 0])))
+    slope = lambda e: np.polyfit(np.log(hs), np.log(e), 1)[0]
+    assert abs(slope(err_base) - 1) < 0.1 and abs(slope(err_sur) - 2) < 0.1
+    program("surrogate", "--system-file", system_file("oscillator"), "--schemes", "la", "--order", 1, out=tmp_path)
+    # the same formulas (GiNaC orders a sum's terms by its symbols' creation order, which differs from one process to
+    # another: the same values to round-off, not bit for bit)
+    filed = geomint.load_system(str(tmp_path / "oscillator-surrogate-la-1.geomint"))
+    np.testing.assert_allclose(filed.integrate("la", 0.05, params={**params, "step": 0.05})["q"],
+                               sur.integrate("la", 0.05, params=params)["q"], rtol=0, atol=1e-14)
+    with pytest.raises(geomint.InputError, match="a surrogate is built from a system's formulas"):
+        geomint.system("oscillator").surrogate("la", 1)
+    with pytest.raises(geomint.InputError, match="not a surrogate"):
+        base.surrogate_info
+
+
 def test_errors_carry_the_cpp_message():
     sys = geomint.system("pendulum")
     with pytest.raises(geomint.InputError, match="unknown scheme 'leapfrog'.*known: la"):
