@@ -1,0 +1,133 @@
+// The drift of an invariant: predicted from the modified equation, measured on a run (invariant_drift.hpp).
+#include "geomint/modified/invariant_drift.hpp"
+
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "geomint/error.hpp"
+#include "geomint/study.hpp"
+
+namespace geomint::modified {
+
+namespace {
+
+// Least-squares slope of y against x over [first, last).
+double slope(const std::vector<double>& x, const std::vector<double>& y, std::size_t first, std::size_t last) {
+  const double n = double(last - first);
+  double mx = 0, my = 0;
+  for (std::size_t i = first; i < last; ++i) mx += x[i], my += y[i];
+  mx /= n, my /= n;
+  double sxy = 0, sxx = 0;
+  for (std::size_t i = first; i < last; ++i) {
+    sxy += (x[i] - mx) * (y[i] - my);
+    sxx += (x[i] - mx) * (x[i] - mx);
+  }
+  return sxy / sxx;
+}
+
+// Phi_h = sum_k h^k phi_k at a modified point (rows of m).
+Eigen::VectorXd modified_constraint(const ModifiedPoint& p, double h) {
+  Eigen::VectorXd phi = Eigen::VectorXd::Zero(p.m);
+  const int rows = int(p.phi.size()) / std::max(p.m, 1);
+  double hk = 1;
+  for (int k = 0; k < rows; ++k, hk *= h)
+    for (int c = 0; c < p.m; ++c) phi(c) += hk * p.phi[std::size_t(k * p.m + c)];
+  return phi;
+}
+
+}  // namespace
+
+DriftRate predicted_drift(const ModifiedSystem& me, const ParamValues& pv, const std::string& scheme, int K, double h,
+                          const Reference& orbit, long stride, const InvariantFunction& invariant) {
+  const int n = orbit.n, m = me.constraints;
+  if (orbit.v.size() != orbit.q.size()) throw InputError("predicted_drift: the orbit has no velocities");
+  if (stride < 1) throw InputError("predicted_drift: stride must be >= 1");
+  std::vector<double> rates;
+  std::vector<double> grad(std::size_t(1 + 2 * n));
+  for (long j = 0; j <= orbit.N; j += stride) {
+    const double t = double(j) * orbit.h;
+    const std::vector<double> q(orbit.q.begin() + j * n, orbit.q.begin() + (j + 1) * n);
+    std::vector<double> v(orbit.v.begin() + j * n, orbit.v.begin() + (j + 1) * n);
+    if (m > 0) {
+      // The rows A of phi_0 = A v + b (linear in v: exact differences), then v moved onto Phi_h = 0 along A^T.
+      const ModifiedPoint p0 = me.at(pv, scheme, 0, t, q, v, 0, false);
+      Eigen::MatrixXd A(m, n);
+      for (int i = 0; i < n; ++i) {
+        std::vector<double> w = v;
+        w[std::size_t(i)] += 1;
+        const ModifiedPoint pi = me.at(pv, scheme, 0, t, q, w, 0, false);
+        for (int c = 0; c < m; ++c) A(c, i) = pi.phi[std::size_t(c)] - p0.phi[std::size_t(c)];
+      }
+      const Eigen::MatrixXd AAt = A * A.transpose();
+      for (int it = 0; it < 3; ++it) {
+        const ModifiedPoint p = me.at(pv, scheme, K, t, q, v, 0, false);
+        const Eigen::VectorXd dv = A.transpose() * AAt.ldlt().solve(modified_constraint(p, h));
+        for (int i = 0; i < n; ++i) v[std::size_t(i)] -= dv(i);
+      }
+    }
+    const ModifiedPoint p = me.at(pv, scheme, K, t, q, v, 0, false);
+    invariant(t, q.data(), v.data(), grad.data());
+    double rate = grad[0];
+    for (int i = 0; i < n; ++i) {
+      double a = 0, hk = 1;
+      for (int k = 0; k <= K; ++k, hk *= h) a += hk * p.F_at(k, i);
+      rate += grad[std::size_t(1 + i)] * v[std::size_t(i)] + grad[std::size_t(1 + n + i)] * a;
+    }
+    if (!std::isfinite(rate))
+      throw NumericalFailure(j, "modified equation", "non-finite rate of the invariant at t = " + std::to_string(t));
+    rates.push_back(rate);
+  }
+  DriftRate r;
+  r.samples = long(rates.size());
+  if (rates.size() < 2) throw InputError("predicted_drift: fewer than two orbit points");
+  const std::size_t half = rates.size() / 2;
+  double a = 0, b = 0;
+  for (std::size_t i = 0; i < half; ++i) a += rates[i];
+  for (std::size_t i = half; i < rates.size(); ++i) b += rates[i];
+  r.rate = (a + b) / double(rates.size());
+  r.spread = std::abs(a / double(half) - b / double(rates.size() - half));
+  return r;
+}
+
+MeasuredDrift measured_drift(const SystemInfo& sys, const ParamValues& pv, const std::string& scheme, double h, double T,
+                             long every, const InvariantFunction& invariant, double exact_start_value) {
+  ParamValues with_T = pv;
+  bool has_T = false;
+  for (auto& [k, v] : with_T)
+    if (k == "T") v = T, has_T = true;
+  if (!has_T) with_T.emplace_back("T", T);
+  const Run run = sys.run(with_T, scheme, h, Path::generic, every);
+  const int n = run.n;
+  std::vector<double> values;
+  for (std::size_t j = 0; j < run.t.size(); ++j)
+    values.push_back(invariant(run.t[j], &run.q[j * std::size_t(n)], &run.v[j * std::size_t(n)], nullptr));
+  if (values.size() < 8) throw InputError("measured_drift: keep at least 8 steps (every is too large for T/h)");
+  MeasuredDrift d;
+  d.steps = run.steps;
+  d.offset = values[0] - exact_start_value;
+  for (double x : values) d.max_deviation = std::max(d.max_deviation, std::abs(x - values[0]));
+  const std::size_t half = values.size() / 2;
+  d.slope.rate = slope(run.t, values, 0, values.size());
+  d.slope.spread = std::abs(slope(run.t, values, 0, half) - slope(run.t, values, half, values.size()));
+  d.slope.samples = long(values.size());
+  return d;
+}
+
+double drift_power(const std::vector<double>& h, const std::vector<DriftRate>& rates) {
+  std::vector<double> hs, rs;
+  for (std::size_t i = 0; i < h.size() && i < rates.size(); ++i)
+    if (std::abs(rates[i].rate) > rates[i].spread) hs.push_back(h[i]), rs.push_back(std::abs(rates[i].rate));
+  if (hs.size() < 2) return missing_value;
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < hs.size(); ++i) mx += std::log(hs[i]), my += std::log(rs[i]);
+  mx /= double(hs.size()), my /= double(hs.size());
+  double sxy = 0, sxx = 0;
+  for (std::size_t i = 0; i < hs.size(); ++i) {
+    sxy += (std::log(hs[i]) - mx) * (std::log(rs[i]) - my);
+    sxx += (std::log(hs[i]) - mx) * (std::log(hs[i]) - mx);
+  }
+  return sxy / sxx;
+}
+
+}  // namespace geomint::modified
