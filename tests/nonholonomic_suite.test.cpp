@@ -8,6 +8,7 @@
 
 #include "geomint/modified/formula_modified.hpp"
 #include "geomint/modified/invariant_drift.hpp"
+#include "geomint/modified/nonholonomic_suite_study.hpp"
 #include "geomint/nonholonomic_suite.hpp"
 #include "geomint/study.hpp"
 
@@ -38,19 +39,6 @@ double observable_error(const SuiteSystem& s, const std::vector<double>& t, cons
     for (std::size_t i = 0; i < ex.size(); ++i) e = std::max(e, std::abs(obs[i] - ex[i]));
   }
   return e;
-}
-
-modified::InvariantFunction invariant(const SuiteSystem& s, std::size_t k) {
-  return [&s, k](double t, const double* q, const double* v, double* grad) {
-    const int n = s.model->n;
-    const SuiteState x = suite_state(t, q, v, n);
-    if (!grad) return suite_invariant(s, k, x);
-    SuiteState g{};
-    const double value = suite_invariant(s, k, x, &g);
-    grad[0] = g[0];
-    for (int i = 0; i < n; ++i) grad[1 + i] = g[std::size_t(1 + i)], grad[1 + n + i] = g[std::size_t(1 + n + i)];
-    return value;
-  };
 }
 
 }  // namespace
@@ -142,7 +130,7 @@ TEST_CASE("suite: the drift of the energy on the non-reversible oscillator is th
   const auto me = modified::formula_modified_system(s.model);
   const double T_orbit = 200, dt = 0.05;
   const Reference orbit = s.info->reference(with({}, "T", T_orbit), dt, step_count(dt, T_orbit), ReferenceKind::odeint, 1e-12);
-  const auto H = invariant(s, 0);
+  const auto H = modified::suite_invariant_function(s, 0);
   const double H0 = suite_invariant(s, 0, suite_state(0, &orbit.q[0], &orbit.v[0], 3));
   for (const char* scheme : {"la", "contact"}) {
     std::vector<double> hs;

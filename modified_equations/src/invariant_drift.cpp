@@ -97,7 +97,10 @@ MeasuredDrift measured_drift(const SystemInfo& sys, const ParamValues& pv, const
   for (auto& [k, v] : with_T)
     if (k == "T") v = T, has_T = true;
   if (!has_T) with_T.emplace_back("T", T);
-  const Run run = sys.run(with_T, scheme, h, Path::generic, every);
+  return measured_drift(sys.run(with_T, scheme, h, Path::generic, every), invariant, exact_start_value);
+}
+
+MeasuredDrift measured_drift(const Run& run, const InvariantFunction& invariant, double exact_start_value) {
   const int n = run.n;
   std::vector<double> values;
   for (std::size_t j = 0; j < run.t.size(); ++j)

@@ -47,6 +47,8 @@ struct MeasuredDrift {
 };
 MeasuredDrift measured_drift(const SystemInfo& sys, const ParamValues& pv, const std::string& scheme, double h, double T,
                              long every, const InvariantFunction& invariant, double exact_start_value);
+// The same of a run already made (its kept rows).
+MeasuredDrift measured_drift(const Run& run, const InvariantFunction& invariant, double exact_start_value);
 
 // The power r in rate ~ C h^r fitted (least squares in log-log) over the points whose rate is above its spread;
 // NaN with fewer than two.
