@@ -69,7 +69,7 @@ TEST_CASE("suite: every closed form and invariant holds along Odeint on the syst
       double smin = 1;
       for (long j = 0; j <= ref.N; ++j) smin = std::min(smin, std::abs(std::sin(ref.q[std::size_t(j * n + 1)])));
       INFO("min |sin theta| " << smin);
-      CHECK(smin > 0.4);
+      CHECK(smin > 0.9);
     }
   }
 }
@@ -92,6 +92,28 @@ TEST_CASE("suite: the invariants' gradients are their derivatives", "[suite][exa
   }
 }
 
+// The error a convergence test fits: the position observables on the grid (suite_error); without any (Suslov),
+// every observable at the midpoints t_{j+1/2} from the chord, q = (q_j + q_{j+1})/2, q' = (q_{j+1} - q_j)/h: second
+// order at best, so it shows min(p, 2). (A scheme's own velocity, from p_j, is first order on these constrained
+// systems whatever the scheme: suite_error says why.)
+double convergence_error(const SuiteSystem& s, const Run& r, double h) {
+  if (s.problem->positions > 0) return suite_error(s, r.t, r.q, r.v);
+  const int n = s.model->n;
+  double e = 0;
+  for (std::size_t j = 0; j + 1 < r.t.size(); ++j) {
+    double q[suite_max_dof], v[suite_max_dof];
+    for (int i = 0; i < n; ++i) {
+      q[i] = (r.q[j * std::size_t(n) + std::size_t(i)] + r.q[(j + 1) * std::size_t(n) + std::size_t(i)]) / 2;
+      v[i] = (r.q[(j + 1) * std::size_t(n) + std::size_t(i)] - r.q[j * std::size_t(n) + std::size_t(i)]) / h;
+    }
+    const double t = (r.t[j] + r.t[j + 1]) / 2;
+    const auto obs = suite_observe(s, suite_state(t, q, v, n));
+    const auto ex = suite_exact(s, t);
+    for (std::size_t i = 0; i < ex.size(); ++i) e = std::max(e, std::abs(obs[i] - ex[i]));
+  }
+  return e;
+}
+
 TEST_CASE("suite: every scheme and a composition converge at their order against the exact observables",
           "[suite][orders]") {
   for (const auto& problem : suite_problems()) {
@@ -101,23 +123,18 @@ TEST_CASE("suite: every scheme and a composition converge at their order against
     std::vector<std::string> schemes = s.info->scheme_names();
     schemes.push_back("yoshida4:la-trapezoid");
     for (const auto& scheme : schemes) {
-      const int order = s.info->scheme(scheme).order;
+      const int own = s.info->scheme(scheme).order,
+                order = problem.positions > 0 ? std::max(own, problem.least_order) : std::min(own, 2);
       // the order-4 composition reaches round-off sooner: coarser steps
-      const double h0 = order >= 4 ? 0.2 : 0.05;
+      const double h0 = own >= 4 ? 0.2 : 0.05;
       std::vector<double> hs, errs;
       for (int i = 0; i < 4; ++i) {
         const double h = h0 / double(1 << i);
-        const Run r = s.info->run(pv, scheme, h, Path::generic, 1);
         hs.push_back(h);
-        errs.push_back(observable_error(s, r.t, r.q, r.v));
+        errs.push_back(convergence_error(s, s.info->run(pv, scheme, h, Path::generic, 1), h));
       }
       const AsymptoticOrder fit = asymptotic_order(hs, errs, 0.15, 1e-12);
       INFO(problem.name << " " << scheme << ": errors " << errs[0] << " ... " << errs[3] << ", " << fit.describe());
-      if (errs[0] < 1e-12) {
-        SUCCEED("exact to round-off");  // a scheme that solves this motion exactly: held to round-off instead
-        CHECK(errs[3] < 1e-12);
-        continue;
-      }
       REQUIRE(fit.asymptotic());
       CHECK(std::abs(fit.slope - order) < 0.2);
     }

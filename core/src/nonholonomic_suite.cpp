@@ -71,22 +71,22 @@ S invariant_of(const SuiteSystem& sys, std::size_t k, const std::array<S, 9>& x)
 
 const std::vector<SuiteProblem>& suite_problems() {
   static const std::vector<SuiteProblem> problems = [] {
-    const std::vector<std::string> q4{"x", "y", "theta", "phi"}, sleigh{"u", "omega", "theta"},
+    const std::vector<std::string> q4{"x", "y", "theta", "phi"}, sleigh{"theta", "u", "omega"},
         suslov{"omega1", "omega2"}, osc{"y", "ydot"};
     const std::vector<std::string> disk_inv{"E", "theta_dot", "phi_dot"}, energy{"E"}, osc_inv{"H", "Hy", "H-Hy"};
     std::vector<SuiteProblem> p;
-    p.push_back({"rolling-disk", "rolling-disk", {{"alpha", 0}, {"T", 20}}, "vertical rolling disk, free", q4, disk_inv, true});
+    p.push_back({"rolling-disk", "rolling-disk", {{"alpha", 0}, {"T", 20}}, "vertical rolling disk, free", q4, 4, 1, disk_inv, true});
     p.push_back({"rolling-disk-damped", "rolling-disk", {{"T", 20}},
                  "vertical rolling disk, Rayleigh damping alpha times the metric (invariants times e^{alpha t}, e^{2 alpha t})",
-                 q4, disk_inv, true});
-    p.push_back({"sleigh", "chaplygin-sleigh", {{"alpha", 0}, {"T", 20}}, "Chaplygin sleigh, free", sleigh, energy, true});
+                 q4, 4, 1, disk_inv, true});
+    p.push_back({"sleigh", "chaplygin-sleigh", {{"alpha", 0}, {"T", 20}}, "Chaplygin sleigh, free", sleigh, 1, 1, energy, true});
     p.push_back({"sleigh-damped", "chaplygin-sleigh", {{"T", 20}}, "Chaplygin sleigh, Rayleigh damping (E e^{2 alpha t})",
-                 sleigh, energy, true});
-    p.push_back({"suslov", "suslov", {}, "Suslov problem", suslov, energy, true});
-    p.push_back({"contact-oscillator", "contact-oscillator", {}, "McLachlan-Perlmutter contact oscillator, epsilon = 0.1", osc,
+                 sleigh, 1, 1, energy, true});
+    p.push_back({"suslov", "suslov", {}, "Suslov problem", suslov, 0, 1, energy, true});
+    p.push_back({"contact-oscillator", "contact-oscillator", {}, "McLachlan-Perlmutter contact oscillator, epsilon = 0.1", osc, 1, 2,
                  osc_inv, true});
     p.push_back({"nonreversible-oscillator", "nonreversible-oscillator", {},
-                 "contact oscillator with Modin-Verdier's gauge term (not reversible in (q, p))", osc, osc_inv, false});
+                 "contact oscillator with Modin-Verdier's gauge term (not reversible in (q, p))", osc, 1, 2, osc_inv, false});
     return p;
   }();
   return problems;
@@ -151,7 +151,7 @@ std::vector<double> suite_exact(const SuiteSystem& sys, double t) {
       const double V = std::sqrt(u0 * u0 + J * w0 * w0 / m), k = m * a * V / J, c = std::atanh(u0 / V);
       const double tau = k * s + c;
       const double heading = std::sqrt(J / m) / a * (std::atan(std::sinh(tau)) - std::atan(std::sinh(c)));
-      return {decay * V * std::tanh(tau), decay * V * std::sqrt(m / J) / std::cosh(tau), heading};
+      return {heading, decay * V * std::tanh(tau), decay * V * std::sqrt(m / J) / std::cosh(tau)};
     }
     case Kind::suslov: {
       const double I1 = sys.param("I1"), I2 = sys.param("I2"), I13 = sys.param("I13"), I23 = sys.param("I23"),
@@ -180,7 +180,7 @@ std::vector<double> suite_observe(const SuiteSystem& sys, const SuiteState& x) {
     case Kind::disk:
       return {q[0], q[1], q[2], q[3]};
     case Kind::sleigh:
-      return {v[0] * std::cos(q[2]) + v[1] * std::sin(q[2]), v[2], q[2]};
+      return {q[2], v[0] * std::cos(q[2]) + v[1] * std::sin(q[2]), v[2]};
     case Kind::suslov:
       return {v[0] * std::sin(q[1]) * std::sin(q[2]) + v[1] * std::cos(q[2]),
               v[0] * std::sin(q[1]) * std::cos(q[2]) - v[1] * std::sin(q[2])};
@@ -188,6 +188,19 @@ std::vector<double> suite_observe(const SuiteSystem& sys, const SuiteState& x) {
       return {q[1], v[1]};
   }
   return {};
+}
+
+double suite_error(const SuiteSystem& sys, const std::vector<double>& t, const std::vector<double>& q,
+                   const std::vector<double>& v) {
+  const int n = sys.model->n;
+  const std::size_t count = sys.problem->positions > 0 ? sys.problem->positions : sys.problem->observables.size();
+  double e = 0;
+  for (std::size_t j = 0; j < t.size(); ++j) {
+    const auto obs = suite_observe(sys, suite_state(t[j], &q[j * std::size_t(n)], &v[j * std::size_t(n)], n));
+    const auto ex = suite_exact(sys, t[j]);
+    for (std::size_t i = 0; i < count; ++i) e = std::max(e, std::abs(obs[i] - ex[i]));
+  }
+  return e;
 }
 
 double suite_invariant(const SuiteSystem& sys, std::size_t k, const SuiteState& x, SuiteState* grad) {

@@ -108,15 +108,7 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
         } catch (const NumericalFailure& e) {
           report_missing(context, e.what());
         }
-        double error = missing_value;
-        if (!run.t.empty()) {
-          error = 0;
-          for (std::size_t j = 0; j < run.t.size(); ++j) {
-            const auto obs = suite_observe(s, suite_state(run.t[j], &run.q[j * std::size_t(n)], &run.v[j * std::size_t(n)], n));
-            const auto ex = suite_exact(s, run.t[j]);
-            for (std::size_t i = 0; i < ex.size(); ++i) error = std::max(error, std::abs(obs[i] - ex[i]));
-          }
-        }
+        const double error = run.t.empty() ? missing_value : suite_error(s, run.t, run.q, run.v);
         for (std::size_t k = 0; k < invariants.size(); ++k) {
           SuiteRow row;
           row.problem = problem->name;

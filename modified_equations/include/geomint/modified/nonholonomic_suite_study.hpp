@@ -34,7 +34,7 @@ struct SuiteRow {
   std::string problem, scheme, invariant;
   double h = 0;
   long steps = 0;
-  double error = 0;          // max over the kept rows of |observable - exact| (every observable of the problem)
+  double error = 0;          // suite_error over the kept rows
   double offset = 0;         // I_0 - I(exact start)
   double max_deviation = 0;  // max_j |I_j - I_0|
   DriftRate measured, predicted;  // predicted: rate NaN where the scheme is not predicted
