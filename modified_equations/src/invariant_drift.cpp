@@ -12,18 +12,21 @@ namespace geomint::modified {
 
 namespace {
 
-// Least-squares slope of y against x over [first, last).
-double slope(const std::vector<double>& x, const std::vector<double>& y, std::size_t first, std::size_t last) {
-  const double n = double(last - first);
-  double mx = 0, my = 0;
-  for (std::size_t i = first; i < last; ++i) mx += x[i], my += y[i];
-  mx /= n, my /= n;
-  double sxy = 0, sxx = 0;
+// The rate at x = 0 of the least-squares quadratic y ~ a + b x + c x^2 over [first, last): b. A drift that changes
+// the orbit changes its own rate (c); the prediction is the rate on the starting orbit, b.
+double initial_rate(const std::vector<double>& x, const std::vector<double>& y, std::size_t first, std::size_t last) {
+  Eigen::MatrixXd V(last - first, 3);
+  Eigen::VectorXd Y(last - first);
+  const double scale = x[last - 1] - x[first];
   for (std::size_t i = first; i < last; ++i) {
-    sxy += (x[i] - mx) * (y[i] - my);
-    sxx += (x[i] - mx) * (x[i] - mx);
+    const double u = x[i] / scale;  // conditioning
+    V(Eigen::Index(i - first), 0) = 1;
+    V(Eigen::Index(i - first), 1) = u;
+    V(Eigen::Index(i - first), 2) = u * u;
+    Y(Eigen::Index(i - first)) = y[i];
   }
-  return sxy / sxx;
+  const Eigen::Vector3d c = V.colPivHouseholderQr().solve(Y);
+  return c(1) / scale;
 }
 
 // Phi_h = sum_k h^k phi_k at a modified point (rows of m).
@@ -111,8 +114,8 @@ MeasuredDrift measured_drift(const Run& run, const InvariantFunction& invariant,
   d.offset = values[0] - exact_start_value;
   for (double x : values) d.max_deviation = std::max(d.max_deviation, std::abs(x - values[0]));
   const std::size_t half = values.size() / 2;
-  d.slope.rate = slope(run.t, values, 0, values.size());
-  d.slope.spread = std::abs(slope(run.t, values, 0, half) - slope(run.t, values, half, values.size()));
+  d.slope.rate = initial_rate(run.t, values, 0, values.size());
+  d.slope.spread = std::abs(initial_rate(run.t, values, 0, half) - d.slope.rate);
   d.slope.samples = long(values.size());
   return d;
 }

@@ -11,9 +11,11 @@
 // unit time that accumulates, while the rest of dI/dt integrates to a bounded oscillation. The orbit is the exact
 // one (Odeint on the system's equations), which the modified orbit follows to O(h^p): the rate is O(h^r), so the
 // error this makes is O(h^{r+p}).
-// Measurement. I(t_j, q_j, v_j) along a run (v_j the velocity of the scheme's momentum p_j): the least-squares
-// slope against t_j. The start's O(h^p) offset is a constant and the bounded oscillation averages out of a slope
-// over many periods; what is left of them is estimated by the slopes of the two halves of the run.
+// Measurement. I(t_j, q_j, v_j) along a run (v_j the velocity of the scheme's momentum p_j): the rate at t = 0 of
+// the least-squares quadratic in t_j (a drift large enough to change the orbit changes its own rate; the quadratic
+// term takes that up, and its linear term is the rate on the starting orbit, which is what is predicted). The
+// start's O(h^p) offset is a constant and the bounded oscillation averages out over many periods; what is left of
+// them is estimated by the same fit over the first half of the run alone (the spread).
 #include <functional>
 #include <string>
 #include <vector>
@@ -37,8 +39,7 @@ struct DriftRate {
 DriftRate predicted_drift(const ModifiedSystem& me, const ParamValues& pv, const std::string& scheme, int K, double h,
                           const Reference& orbit, long stride, const InvariantFunction& invariant);
 
-// The same rate measured: the least-squares slope of I along a run of `scheme` at step h over [0, T], keeping every
-// `every`-th step (the first half's slope against the second's gives the spread). `path` as the registry's run.
+// The same rate measured along a run of `scheme` at step h over [0, T] (generic path), keeping every `every`-th step.
 struct MeasuredDrift {
   DriftRate slope;
   double offset = 0;         // I(0, q_0, v_0) - I of the exact start: what the scheme's start changed
