@@ -154,7 +154,7 @@ TEST_CASE("suite: the drift of the energy on the non-reversible oscillator is th
     std::vector<modified::DriftRate> predicted, measured;
     for (double h : {0.05, 0.025}) {
       hs.push_back(h);
-      predicted.push_back(modified::predicted_drift(*me, {}, scheme, 3, h, orbit, 8, H));
+      predicted.push_back(modified::predicted_drift(*me, {}, scheme, 3, h, orbit, 8, {H}).front());
       measured.push_back(modified::measured_drift(*s.info, {}, scheme, h, T_orbit, 10, H, H0).slope);
       INFO(scheme << " h = " << h << ": predicted " << predicted.back().rate << " (spread " << predicted.back().spread
                   << "), measured " << measured.back().rate << " (spread " << measured.back().spread << ")");

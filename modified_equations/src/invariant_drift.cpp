@@ -39,14 +39,28 @@ Eigen::VectorXd modified_constraint(const ModifiedPoint& p, double h) {
   return phi;
 }
 
+// The mean of the rates, and |mean of the first half - mean of the second half| as its spread.
+DriftRate orbit_average(const std::vector<double>& rates) {
+  DriftRate r;
+  r.samples = long(rates.size());
+  const std::size_t half = rates.size() / 2;
+  double a = 0, b = 0;
+  for (std::size_t i = 0; i < half; ++i) a += rates[i];
+  for (std::size_t i = half; i < rates.size(); ++i) b += rates[i];
+  r.rate = (a + b) / double(rates.size());
+  r.spread = std::abs(a / double(half) - b / double(rates.size() - half));
+  return r;
+}
+
 }  // namespace
 
-DriftRate predicted_drift(const ModifiedSystem& me, const ParamValues& pv, const std::string& scheme, int K, double h,
-                          const Reference& orbit, long stride, const InvariantFunction& invariant) {
+std::vector<DriftRate> predicted_drift(const ModifiedSystem& me, const ParamValues& pv, const std::string& scheme, int K,
+                                       double h, const Reference& orbit, long stride,
+                                       const std::vector<InvariantFunction>& invariants) {
   const int n = orbit.n, m = me.constraints;
   if (orbit.v.size() != orbit.q.size()) throw InputError("predicted_drift: the orbit has no velocities");
   if (stride < 1) throw InputError("predicted_drift: stride must be >= 1");
-  std::vector<double> rates;
+  std::vector<std::vector<double>> rates(invariants.size());
   std::vector<double> grad(std::size_t(1 + 2 * n));
   for (long j = 0; j <= orbit.N; j += stride) {
     const double t = double(j) * orbit.h;
@@ -70,27 +84,25 @@ DriftRate predicted_drift(const ModifiedSystem& me, const ParamValues& pv, const
       }
     }
     const ModifiedPoint p = me.at(pv, scheme, K, t, q, v, 0, false);
-    invariant(t, q.data(), v.data(), grad.data());
-    double rate = grad[0];
+    std::vector<double> a(std::size_t(n), 0.0);
     for (int i = 0; i < n; ++i) {
-      double a = 0, hk = 1;
-      for (int k = 0; k <= K; ++k, hk *= h) a += hk * p.F_at(k, i);
-      rate += grad[std::size_t(1 + i)] * v[std::size_t(i)] + grad[std::size_t(1 + n + i)] * a;
+      double hk = 1;
+      for (int k = 0; k <= K; ++k, hk *= h) a[std::size_t(i)] += hk * p.F_at(k, i);
     }
-    if (!std::isfinite(rate))
-      throw NumericalFailure(j, "modified equation", "non-finite rate of the invariant at t = " + std::to_string(t));
-    rates.push_back(rate);
+    for (std::size_t w = 0; w < invariants.size(); ++w) {
+      invariants[w](t, q.data(), v.data(), grad.data());
+      double rate = grad[0];
+      for (int i = 0; i < n; ++i)
+        rate += grad[std::size_t(1 + i)] * v[std::size_t(i)] + grad[std::size_t(1 + n + i)] * a[std::size_t(i)];
+      if (!std::isfinite(rate))
+        throw NumericalFailure(j, "modified equation", "non-finite rate of an invariant at t = " + std::to_string(t));
+      rates[w].push_back(rate);
+    }
   }
-  DriftRate r;
-  r.samples = long(rates.size());
-  if (rates.size() < 2) throw InputError("predicted_drift: fewer than two orbit points");
-  const std::size_t half = rates.size() / 2;
-  double a = 0, b = 0;
-  for (std::size_t i = 0; i < half; ++i) a += rates[i];
-  for (std::size_t i = half; i < rates.size(); ++i) b += rates[i];
-  r.rate = (a + b) / double(rates.size());
-  r.spread = std::abs(a / double(half) - b / double(rates.size() - half));
-  return r;
+  if (orbit.N / stride < 1) throw InputError("predicted_drift: fewer than two orbit points");
+  std::vector<DriftRate> out;
+  for (const auto& r : rates) out.push_back(orbit_average(r));
+  return out;
 }
 
 MeasuredDrift measured_drift(const SystemInfo& sys, const ParamValues& pv, const std::string& scheme, double h, double T,

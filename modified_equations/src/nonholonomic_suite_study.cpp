@@ -109,6 +109,12 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
           report_missing(context, e.what());
         }
         const double error = run.t.empty() ? missing_value : suite_error(s, run.t, run.q, run.v);
+        std::vector<DriftRate> pred(invariants.size(), DriftRate{missing_value, missing_value, 0});
+        if (predicted) try {
+            pred = predicted_drift(*me, pv, scheme, opt.K, h, orbit, opt.stride, invariants);
+          } catch (const NumericalFailure& e) {
+            report_missing(context + " (prediction)", e.what());
+          }
         for (std::size_t k = 0; k < invariants.size(); ++k) {
           SuiteRow row;
           row.problem = problem->name;
@@ -119,7 +125,6 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
           row.error = error;
           row.seconds = seconds;
           row.measured = {missing_value, missing_value, 0};
-          row.predicted = {missing_value, missing_value, 0};
           row.offset = row.max_deviation = missing_value;
           if (!run.t.empty()) {
             const MeasuredDrift d = measured_drift(run, invariants[k], exact_start[k]);
@@ -137,13 +142,7 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
               study.traces.push_back(std::move(tr));
             }
           }
-          if (predicted) {
-            try {
-              row.predicted = predicted_drift(*me, pv, scheme, opt.K, h, orbit, opt.stride, invariants[k]);
-            } catch (const NumericalFailure& e) {
-              report_missing(context + " (prediction)", e.what());
-            }
-          }
+          row.predicted = pred[k];
           measured[k].push_back(row.measured);
           predictions[k].push_back(row.predicted);
           study.rows.push_back(row);

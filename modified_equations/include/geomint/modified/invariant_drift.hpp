@@ -35,9 +35,11 @@ struct DriftRate {
 };
 
 // The orbit average of dI/dt along the order-K modified flow of `scheme` at step h, over the points of `orbit` (an
-// exact solution: Reference rows of q and q'), every `stride`-th.
-DriftRate predicted_drift(const ModifiedSystem& me, const ParamValues& pv, const std::string& scheme, int K, double h,
-                          const Reference& orbit, long stride, const InvariantFunction& invariant);
+// exact solution: Reference rows of q and q'), every `stride`-th; one rate per invariant (each point is moved onto
+// Phi_h = 0 once for all of them).
+std::vector<DriftRate> predicted_drift(const ModifiedSystem& me, const ParamValues& pv, const std::string& scheme, int K,
+                                       double h, const Reference& orbit, long stride,
+                                       const std::vector<InvariantFunction>& invariants);
 
 // The same rate measured along a run of `scheme` at step h over [0, T] (generic path), keeping every `every`-th step.
 struct MeasuredDrift {
