@@ -4,7 +4,7 @@
 // observables, and each invariant's secular drift measured on the run against the drift the modified equation
 // predicts (la and contact), with the power of h each follows.
 //   nonholonomic_suite [--problems ...] [--schemes ...] [--predict la contact] [--h 0.04 0.02 0.01] [--T 1000]
-//                      [--kept 4000] [--K 3] [--orbit-T 400] [--orbit-dt 0.05] [--stride 8] [--systems-dir docs/systems]
+//                      [--kept 4000] [--K 3] [--orbit-T 400] [--orbit-dt 0.05] [--stride 8] [--systems-dir DIR]
 //                      [--out out]
 // Writes out/nonholonomic_suite.tsv (one row per problem, scheme, invariant and h), out/nonholonomic_suite_fits.tsv
 // (the powers of h and the worst predicted/measured ratio), out/nonholonomic_suite_traces.tsv (each invariant
@@ -25,6 +25,7 @@ using namespace geomint::modified;
 int main(int argc, char** argv) {
   return guarded_main("nonholonomic_suite", [&] {
     SuiteStudyOptions opt;
+    opt.systems_dir = GEOMINT_SYSTEMS_DIR;
     std::string problems_doc;
     for (const auto& p : suite_problems()) problems_doc += (problems_doc.empty() ? "" : " ") + p.name;
     Cli cli("nonholonomic_suite",
@@ -43,7 +44,7 @@ int main(int argc, char** argv) {
         "orbit-T", po::value(&opt.orbit_T)->default_value(opt.orbit_T), "length of the exact orbit the prediction averages over")(
         "orbit-dt", po::value(&opt.orbit_dt)->default_value(opt.orbit_dt), "grid of that orbit")(
         "stride", po::value(&opt.stride)->default_value(opt.stride), "every stride-th orbit point is averaged")(
-        "systems-dir", po::value(&opt.systems_dir)->default_value(opt.systems_dir), "folder of the system files");
+        "systems-dir", po::value(&opt.systems_dir)->default_value(opt.systems_dir), "folder of the system files (default: docs/systems of the source tree it was built from)");
     if (!cli.parse(argc, argv)) return 0;
     check_suite_options(opt);
     // every run (problems x schemes x T/h, a composition at its stages' cost) and every prediction (orbit points x

@@ -26,7 +26,7 @@ struct SuiteStudyOptions {
   double orbit_T = 400;  // the exact orbit the prediction averages over (Odeint, tol 1e-12, on a grid of orbit_dt)
   double orbit_dt = 0.05;
   long stride = 2;     // every stride-th orbit point
-  long trace_points = 1000;  // rows of each trace (the middle h)
+  long trace_points = 1000;  // rows of each trace (the middle h; at most the kept rows)
   std::string systems_dir = "docs/systems";
 };
 
