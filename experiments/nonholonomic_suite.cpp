@@ -3,8 +3,8 @@
 // and its non-reversible form) x every scheme x three step sizes, over a long horizon: the error against the exact
 // observables, and each invariant's secular drift measured on the run against the drift the modified equation
 // predicts (la and contact), with the power of h each follows.
-//   nonholonomic_suite [--problems ...] [--schemes ...] [--predict la contact] [--h 0.04 0.02 0.01] [--T 1000]
-//                      [--kept 4000] [--K 3] [--orbit-T 400] [--orbit-dt 0.05] [--stride 8] [--systems-dir DIR]
+//   nonholonomic_suite [--problems ...] [--schemes ...] [--predict la contact] [--h 0.04 0.02 0.01] [--T 200]
+//                      [--kept 4000] [--K 3] [--orbit-T 200] [--orbit-dt 0.05] [--stride 8] [--systems-dir DIR]
 //                      [--out out]
 // Writes out/nonholonomic_suite.tsv (one row per problem, scheme, invariant and h), out/nonholonomic_suite_fits.tsv
 // (the powers of h and the worst predicted/measured ratio), out/nonholonomic_suite_traces.tsv (each invariant

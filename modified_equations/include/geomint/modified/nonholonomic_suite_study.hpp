@@ -20,10 +20,10 @@ struct SuiteStudyOptions {
                                    "yoshida4:la-trapezoid"};
   std::vector<std::string> predict{"la", "contact"};  // the schemes whose drift the modified equation predicts
   std::vector<double> hs{0.04, 0.02, 0.01};
-  double T = 1000;     // horizon of every run (T/h steps)
+  double T = 200;      // horizon of every run (T/h steps)
   long kept = 4000;    // rows kept of each run (every T/(h kept)-th step)
   int K = 3;           // order of the modified equation
-  double orbit_T = 400;  // the exact orbit the prediction averages over (Odeint, tol 1e-12, on a grid of orbit_dt)
+  double orbit_T = 200;  // the exact orbit the prediction averages over (Odeint, tol 1e-12, on a grid of orbit_dt)
   double orbit_dt = 0.05;
   long stride = 2;     // every stride-th orbit point
   long trace_points = 1000;  // rows of each trace (the middle h; at most the kept rows)
