@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
         "orbit-T", po::value(&opt.orbit_T)->default_value(opt.orbit_T), "length of the exact orbit the prediction averages over")(
         "orbit-dt", po::value(&opt.orbit_dt)->default_value(opt.orbit_dt), "grid of that orbit")(
         "stride", po::value(&opt.stride)->default_value(opt.stride), "every stride-th orbit point is averaged")(
-        "systems-dir", po::value(&opt.systems_dir)->default_value(opt.systems_dir), "folder of the system files (default: docs/systems of the source tree it was built from)");
+        "systems-dir", po::value(&opt.systems_dir)->default_value(opt.systems_dir, "the source tree's docs/systems"),
+        "folder of the system files");
     if (!cli.parse(argc, argv)) return 0;
     check_suite_options(opt);
     // every run (problems x schemes x T/h, a composition at its stages' cost) and every prediction (orbit points x
