@@ -48,6 +48,7 @@ long_horizon --system forced-oscillator
 long_horizon --system kepler
 long_horizon --system pendulum --alpha 0.01
 kepler_anchor
+nonholonomic_suite
 endef
 export FIGURE_COMMANDS
 

@@ -1,0 +1,167 @@
+// The nonholonomic suite's verdict as data (nonholonomic_suite_study.hpp).
+#include "geomint/modified/nonholonomic_suite_study.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+
+#include "geomint/error.hpp"
+#include "geomint/modified/formula_modified.hpp"
+#include "geomint/record.hpp"
+
+namespace geomint::modified {
+
+InvariantFunction suite_invariant_function(const SuiteSystem& sys, std::size_t k) {
+  return [&sys, k](double t, const double* q, const double* v, double* grad) {
+    const int n = sys.model->n;
+    const SuiteState x = suite_state(t, q, v, n);
+    if (!grad) return suite_invariant(sys, k, x);
+    SuiteState g{};
+    const double value = suite_invariant(sys, k, x, &g);
+    grad[0] = g[0];
+    for (int i = 0; i < n; ++i) {
+      grad[1 + i] = g[std::size_t(1 + i)];
+      grad[1 + n + i] = g[std::size_t(1 + n + i)];
+    }
+    return value;
+  };
+}
+
+namespace {
+
+std::vector<const SuiteProblem*> chosen(const SuiteStudyOptions& opt) {
+  std::vector<const SuiteProblem*> out;
+  if (opt.problems.empty())
+    for (const auto& p : suite_problems()) out.push_back(&p);
+  else
+    for (const auto& name : opt.problems) out.push_back(&find_suite_problem(name));
+  return out;
+}
+
+ParamValues with_T(ParamValues pv, double T) {
+  for (auto& [k, v] : pv)
+    if (k == "T") {
+      v = T;
+      return pv;
+    }
+  pv.emplace_back("T", T);
+  return pv;
+}
+
+double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+}  // namespace
+
+void check_suite_options(const SuiteStudyOptions& opt) {
+  require(!opt.schemes.empty(), "give at least one scheme");
+  require(opt.hs.size() >= 2, "give at least two step sizes (the power of h is fitted over them)");
+  require(std::isfinite(opt.T) && opt.T > 0, "T must be positive");
+  require(opt.kept >= 16 && opt.kept <= 1000000, "kept must be in [16, 1e6]");
+  require(opt.K >= 1 && opt.K <= registry_max_order, "K must be in [1, " + std::to_string(registry_max_order) + "]");
+  require(std::isfinite(opt.orbit_T) && opt.orbit_T > 0, "orbit-T must be positive");
+  require(std::isfinite(opt.orbit_dt) && opt.orbit_dt > 0 && opt.orbit_dt <= opt.orbit_T, "orbit-dt must be in (0, orbit-T]");
+  require(opt.stride >= 1, "stride must be >= 1");
+  require(opt.trace_points >= 2, "trace-points must be at least 2");
+  for (double h : opt.hs) {
+    require(std::isfinite(h) && h > 0, "every h must be positive");
+    const long N = step_count(h, opt.T);  // InputError when h does not divide T
+    require(N >= opt.kept, "T/h must be at least kept (h = " + format_number(h) + ")");
+  }
+  step_count(opt.orbit_dt, opt.orbit_T);
+  for (const auto* p : chosen(opt)) {
+    const SuiteSystem s = load_suite_system(*p, opt.systems_dir);
+    for (const auto& x : opt.schemes) s.info->scheme(x);  // InputError naming the known ones
+    for (const auto& x : opt.predict) modified_scheme(*s.info, x);
+  }
+}
+
+SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
+  check_suite_options(opt);
+  SuiteStudy study;
+  const std::size_t mid = opt.hs.size() / 2;
+  for (const auto* problem : chosen(opt)) {
+    const SuiteSystem s = load_suite_system(*problem, opt.systems_dir);
+    const auto me = formula_modified_system(s.model);
+    const int n = s.model->n;
+    const ParamValues pv = problem->params;
+    const Reference orbit = s.info->reference(with_T(pv, opt.orbit_T), opt.orbit_dt, step_count(opt.orbit_dt, opt.orbit_T),
+                                              ReferenceKind::odeint, 1e-12);
+    std::vector<InvariantFunction> invariants;
+    std::vector<double> exact_start;
+    for (std::size_t k = 0; k < problem->invariants.size(); ++k) {
+      invariants.push_back(suite_invariant_function(s, k));
+      exact_start.push_back(invariants.back()(0, &orbit.q[0], &orbit.v[0], nullptr));
+    }
+    for (const auto& scheme : opt.schemes) {
+      const bool predicted = std::find(opt.predict.begin(), opt.predict.end(), scheme) != opt.predict.end();
+      std::vector<std::vector<DriftRate>> measured(invariants.size()), predictions(invariants.size());
+      for (std::size_t hi = 0; hi < opt.hs.size(); ++hi) {
+        const double h = opt.hs[hi];
+        const long N = step_count(h, opt.T), every = std::max(1L, N / opt.kept);
+        const std::string context = problem->name + " " + scheme + " h = " + format_number(h);
+        Run run;
+        double seconds = missing_value;
+        try {
+          const double c0 = cpu_seconds();
+          run = s.info->run(with_T(pv, opt.T), scheme, h, Path::generic, every);
+          seconds = cpu_seconds() - c0;
+        } catch (const NumericalFailure& e) {
+          report_missing(context, e.what());
+        }
+        const double error = run.t.empty() ? missing_value : suite_error(s, run.t, run.q, run.v);
+        std::vector<DriftRate> pred(invariants.size(), DriftRate{missing_value, missing_value, 0});
+        if (predicted) try {
+            pred = predicted_drift(*me, pv, scheme, opt.K, h, orbit, opt.stride, invariants);
+          } catch (const NumericalFailure& e) {
+            report_missing(context + " (prediction)", e.what());
+          }
+        for (std::size_t k = 0; k < invariants.size(); ++k) {
+          SuiteRow row;
+          row.problem = problem->name;
+          row.scheme = scheme;
+          row.invariant = problem->invariants[k];
+          row.h = h;
+          row.steps = N;
+          row.error = error;
+          row.seconds = seconds;
+          row.measured = {missing_value, missing_value, 0};
+          row.offset = row.max_deviation = missing_value;
+          if (!run.t.empty()) {
+            const MeasuredDrift d = measured_drift(run, invariants[k], exact_start[k]);
+            row.measured = d.slope;
+            row.offset = d.offset;
+            row.max_deviation = d.max_deviation;
+            if (hi == mid) {
+              SuiteTrace tr{problem->name, scheme, problem->invariants[k], h, {}, {}};
+              const std::size_t step = std::max<std::size_t>(1, run.t.size() / std::size_t(opt.trace_points));
+              for (std::size_t j = 0; j < run.t.size(); j += step) {
+                tr.t.push_back(run.t[j]);
+                tr.deviation.push_back(invariants[k](run.t[j], &run.q[j * std::size_t(n)], &run.v[j * std::size_t(n)], nullptr) -
+                                       exact_start[k]);
+              }
+              study.traces.push_back(std::move(tr));
+            }
+          }
+          row.predicted = pred[k];
+          measured[k].push_back(row.measured);
+          predictions[k].push_back(row.predicted);
+          study.rows.push_back(row);
+        }
+      }
+      for (std::size_t k = 0; k < invariants.size(); ++k) {
+        SuiteFit f{problem->name, scheme, problem->invariants[k], drift_power(opt.hs, measured[k]), missing_value,
+                   missing_value};
+        if (predicted) {
+          f.power_predicted = drift_power(opt.hs, predictions[k]);
+          f.worst_ratio = 0;
+          for (std::size_t i = 0; i < opt.hs.size(); ++i)
+            f.worst_ratio = std::max(f.worst_ratio, std::abs(predictions[k][i].rate / measured[k][i].rate - 1));
+        }
+        study.fits.push_back(f);
+      }
+    }
+  }
+  return study;
+}
+
+}  // namespace geomint::modified
