@@ -14,10 +14,11 @@
 // Is it worth it (--wp, the default cases pendulum:la-midpoint and knife-edge:la-midpoint): work-precision points,
 // max_j |q_j - q(t_j)| against the base's reference (Odeint, 1e-13) and the median CPU seconds of a run, for the
 // scheme on the base, on its surrogates (K = 2, 4; the step parameter set to each h), its compositions yoshida4 and
-// yoshida6a, and Odeint's dopri5 and Bulirsch–Stoer over tolerances (the work_precision study's points; GSL's rk8pd
-// needs a closed form to be measured at its own steps, which these systems have not); and the long horizon of the
-// symmetric scheme on the conservative pendulum: max_j |E(q_j, v_j) - E_0| over T = 1000 at h = 0.1, E the base's
-// energy. Writes out/bench_surrogate_work_precision.tsv and out/bench_surrogate_energy.tsv.
+// yoshida6a, and Odeint's dopri5 and Bulirsch–Stoer and GSL's rk8pd over tolerances (the work_precision study's
+// points); the long horizon of the symmetric scheme on the conservative pendulum and on the knife edge without
+// damping: max_j |E(q_j, v_j) - E_0| over T = 1000, and over its first tenth, E the base's energy; and the damping
+// law of la and its surrogates K = 1, 2 on the paper's oscillator (alpha = 0.1) against the closed form's energy.
+// Writes out/bench_surrogate_work_precision.tsv, out/bench_surrogate_energy.tsv and out/bench_surrogate_damping.tsv.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -126,9 +127,27 @@ int main(int argc, char** argv) {
     };
     std::vector<Point> wp;
     struct Energy {
-      std::string method;
-      double h, T, drift;
+      std::string system, method;
+      double h, T, drift, drift_tenth;  // max_j |E_j - E_0| over [0, T] and over [0, T/10]
     };
+    // max |E_j - E_0| over the run and over its first tenth: equal where the energy error is bounded, ten times
+    // larger where it drifts linearly.
+    auto energy_error = [](const SystemInfo& info, const ParamValues& q, const std::string& scheme, double hh) {
+      const Run run = info.run(q, scheme, hh, Path::generic, 10);
+      double d = 0, d10 = 0;
+      const double T = run.t.back();
+      for (std::size_t j = 0; j < run.energy.size(); ++j) {
+        const double e = std::abs(run.energy[j] - run.energy.front());
+        d = std::max(d, e);
+        if (run.t[j] <= T / 10) d10 = std::max(d10, e);
+      }
+      return std::make_pair(d, d10);
+    };
+    struct Damping {
+      std::string method;
+      double h, T, rate_error, max_relative;  // slope of log(E_j / E(t_j)) in t; max_j |E_j / E(t_j) - 1|
+    };
+    std::vector<Damping> damping;
     std::vector<Energy> energy;
     if (work) {
       for (const std::string system : {"pendulum", "knife-edge"}) {
@@ -138,7 +157,7 @@ int main(int argc, char** argv) {
         WorkPrecisionOptions opt;
         opt.schemes = {scheme, "yoshida4:" + scheme, "yoshida6a:" + scheme};
         opt.hs = {0.2, 0.1, 0.05, 0.025, 0.0125};
-        opt.baselines = {"odeint-dopri5", "odeint-bulirsch-stoer"};
+        opt.baselines = {"odeint-dopri5", "odeint-bulirsch-stoer", "gsl-rk8pd"};
         opt.tols = {1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
         opt.path = Path::generic;
         opt.reps = reps;
@@ -159,23 +178,64 @@ int main(int argc, char** argv) {
             wp.push_back({system, name, hh, sinfo->max_error(sp, scheme, hh, Path::generic, ref),
                           sinfo->time_run(sp, scheme, hh, Path::generic, reps).median});
           }
-          if (system == "pendulum") {  // the long horizon: the base's energy along the discrete solution
-            const double hh = 0.1, T = 1000;
-            auto drift = [&](const SystemInfo& info, const ParamValues& q) {
-              const Run run = info.run(q, scheme, hh, Path::generic, 10);
-              double d = 0;
-              for (double e : run.energy) d = std::max(d, std::abs(e - run.energy.front()));
-              return d;
-            };
-            if (K == 2) energy.push_back({scheme, hh, T, drift(*binfo, {{"T", T}})});
-            energy.push_back({name, hh, T, drift(*sinfo, {{"T", T}, {s.step_parameter, hh}})});
+          // the long horizon of the symmetric scheme on a conservative system: the base's energy along the discrete
+          // solution (the knife edge without its damping: the constrained case)
+          const double hh = system == "pendulum" ? 0.1 : 0.05, T = 1000;
+          const ParamValues free = system == "pendulum" ? ParamValues{{"T", T}} : ParamValues{{"T", T}, {"alpha", 0.0}};
+          if (K == 2) {
+            const auto [d, d10] = energy_error(*binfo, free, scheme, hh);
+            energy.push_back({system, scheme, hh, T, d, d10});
           }
+          ParamValues sfree = free;
+          sfree.emplace_back(s.step_parameter, hh);
+          const auto [d, d10] = energy_error(*sinfo, sfree, scheme, hh);
+          energy.push_back({system, name, hh, T, d, d10});
         }
       }
       for (const auto& p : wp)
         std::printf("%-11s %-26s %-8g error %10.3e  %10.3e s\n", p.system.c_str(), p.method.c_str(), p.knob, p.error, p.seconds);
+      // The damping law of the first-order scheme on the paper's oscillator (q'' + alpha q' + q = 0, alpha = 0.1):
+      // E_j against the closed form's E(t_j) over T = 200, the base (la) and its surrogates K = 1, 2.
+      {
+        const auto base = base_model(systems_dir, "oscillator");
+        const auto binfo = formula::formula_system_info(base);
+        const double alpha = 0.1, q0 = -0.25, v0 = 0.75, T = 200, w = std::sqrt(1 - alpha * alpha / 4);
+        auto exact_energy = [&](double t) {  // q = e^{-alpha t/2}(q0 cos wt + (v0 + alpha q0/2)/w sin wt)
+          const double a = q0, b = (v0 + alpha * q0 / 2) / w, e = std::exp(-alpha * t / 2);
+          const double q = e * (a * std::cos(w * t) + b * std::sin(w * t));
+          const double v = -alpha / 2 * q + e * (-a * w * std::sin(w * t) + b * w * std::cos(w * t));
+          return (v * v + q * q) / 2;
+        };
+        auto law = [&](const SystemInfo& info, const ParamValues& q, const std::string& method, double hh) {
+          const Run run = info.run(q, "la", hh, Path::generic, 1);
+          double st = 0, sy = 0, stt = 0, sty = 0, worst = 0;
+          const double n = double(run.t.size());
+          for (std::size_t j = 0; j < run.t.size(); ++j) {
+            const double r = run.energy[j] / exact_energy(run.t[j]);
+            worst = std::max(worst, std::abs(r - 1));
+            const double y = std::log(r), t = run.t[j];
+            st += t, sy += y, stt += t * t, sty += t * y;
+          }
+          damping.push_back({method, hh, T, (n * sty - st * sy) / (n * stt - st * st), worst});
+        };
+        const ParamValues pv{{"T", T}, {"alpha", alpha}, {"q0", q0}, {"p0", v0}};
+        for (double hh : {0.1, 0.05}) {
+          law(*binfo, pv, "la", hh);
+          for (int K : {1, 2}) {
+            const auto s = modified::build_surrogate(base, "la", K, budget);
+            const auto sinfo = formula::formula_system_info(formula::compile_model(s.description));
+            ParamValues sp = pv;
+            sp.emplace_back(s.step_parameter, hh);
+            law(*sinfo, sp, "surrogate" + std::to_string(s.K) + ":la", hh);
+          }
+        }
+      }
       for (const auto& e : energy)
-        std::printf("pendulum    %-26s h = %g, T = %g: max |E - E0| = %.3e\n", e.method.c_str(), e.h, e.T, e.drift);
+        std::printf("%-11s %-26s h = %g, T = %g: max |E - E0| = %.3e (over the first tenth %.3e)\n", e.system.c_str(),
+                    e.method.c_str(), e.h, e.T, e.drift, e.drift_tenth);
+      for (const auto& d : damping)
+        std::printf("oscillator  %-26s h = %g, T = %g: damping rate error %.3e, max |E/E_exact - 1| = %.3e\n",
+                    d.method.c_str(), d.h, d.T, d.rate_error, d.max_relative);
     }
     const auto dir = prepare_output_dir(cli.out);
     double load[3] = {0, 0, 0};
@@ -194,10 +254,17 @@ int main(int argc, char** argv) {
       TsvWriter w(dir / "bench_surrogate_work_precision.tsv", "bench_surrogate", wp_header,
                   {"system", "method", "h_or_tol", "error", "cpu_seconds"});
       for (const auto& p : wp) w.row(p.system, p.method, p.knob, p.error, p.seconds);
-      TsvWriter e(dir / "bench_surrogate_energy.tsv", "bench_surrogate", wp_header, {"system", "method", "h", "T", "max_energy_error"});
-      for (const auto& x : energy) e.row("pendulum", x.method, x.h, x.T, x.drift);
+      TsvWriter e(dir / "bench_surrogate_energy.tsv", "bench_surrogate", wp_header,
+                  {"system", "method", "h", "T", "max_energy_error", "max_energy_error_first_tenth"});
+      for (const auto& x : energy) e.row(x.system, x.method, x.h, x.T, x.drift, x.drift_tenth);
+      TsvWriter dl(dir / "bench_surrogate_damping.tsv", "bench_surrogate",
+                   {{"system", "oscillator alpha = 0.1, q0 = -0.25, v0 = 0.75"}, {"scheme", "la"},
+                    {"rate_error", "least-squares slope of log(E_j / E(t_j)) in t (E the closed form's)"}},
+                   {"method", "h", "T", "rate_error", "max_relative_energy_error"});
+      for (const auto& x : damping) dl.row(x.method, x.h, x.T, x.rate_error, x.max_relative);
       w.commit();
       e.commit();
+      dl.commit();
     }
     tsv.commit();
     return 0;

@@ -5,10 +5,12 @@
 // predicts (la and contact), with the power of h each follows.
 //   nonholonomic_suite [--problems ...] [--schemes ...] [--predict la contact] [--h 0.04 0.02 0.01] [--T 200]
 //                      [--kept 4000] [--K 3] [--orbit-T 200] [--orbit-dt 0.05] [--stride 8] [--systems-dir DIR]
+//                      [--baselines gsl-rk8pd] [--tols 1e-3 ... 1e-13] [--reps 3] [--name nonholonomic_suite]
 //                      [--out out]
-// Writes out/nonholonomic_suite.tsv (one row per problem, scheme, invariant and h), out/nonholonomic_suite_fits.tsv
-// (the powers of h and the worst predicted/measured ratio), out/nonholonomic_suite_traces.tsv (each invariant
-// against t at the middle h) and out/nonholonomic_suite_invariants.{png,pdf} drawn from the traces.
+// Writes out/<name>.tsv (one row per problem, scheme, invariant and h, and per baseline and tolerance, with what each
+// baseline reaches in a scheme's time), out/<name>_fits.tsv (the powers of h and the worst predicted/measured
+// ratio), out/<name>_traces.tsv (each invariant against t at the middle h) and out/<name>_invariants.{png,pdf}
+// drawn from the traces.
 #include <cmath>
 #include <cstdio>
 
@@ -26,6 +28,7 @@ int main(int argc, char** argv) {
   return guarded_main("nonholonomic_suite", [&] {
     SuiteStudyOptions opt;
     opt.systems_dir = GEOMINT_SYSTEMS_DIR;
+    std::string name = "nonholonomic_suite";
     std::string problems_doc;
     for (const auto& p : suite_problems()) problems_doc += (problems_doc.empty() ? "" : " ") + p.name;
     Cli cli("nonholonomic_suite",
@@ -44,15 +47,24 @@ int main(int argc, char** argv) {
         "orbit-T", po::value(&opt.orbit_T)->default_value(opt.orbit_T), "length of the exact orbit the prediction averages over")(
         "orbit-dt", po::value(&opt.orbit_dt)->default_value(opt.orbit_dt), "grid of that orbit")(
         "stride", po::value(&opt.stride)->default_value(opt.stride), "every stride-th orbit point is averaged")(
+        "baselines", po::value(&opt.baselines)->multitoken()->zero_tokens()->default_value(opt.baselines, "gsl-rk8pd"),
+        "adaptive baselines run over the tolerances on the system's equations (none: --baselines with no value)")(
+        "tols", po::value(&opt.tols)->multitoken()->default_value(opt.tols, "1e-3 1e-5 1e-7 1e-9 1e-11 1e-13"),
+        "the baselines' tolerances (relative; absolute the same)")(
+        "reps", po::value(&opt.reps)->default_value(opt.reps), "each run's time: the median of reps runs")(
+        "name", po::value(&name)->default_value(name), "the stem of the files written")(
         "systems-dir", po::value(&opt.systems_dir)->default_value(opt.systems_dir, "the source tree's docs/systems"),
         "folder of the system files");
     if (!cli.parse(argc, argv)) return 0;
     check_suite_options(opt);
+    require(!name.empty() && name.find_first_of("/\\") == std::string::npos && name[0] != '.',
+            "--name must be a file stem (no folder, not starting with '.')");
     // every run (problems x schemes x T/h, a composition at its stages' cost) and every prediction (orbit points x
     // (n + 5) modified-equation evaluations, each ~1e4 cheap steps)
     const std::size_t P = opt.problems.empty() ? suite_problems().size() : opt.problems.size();
     for (double h : opt.hs)
-      plan_steps(double(P * opt.schemes.size()) * double(step_count(h, opt.T)), "the runs (problems x schemes x T/h)", 20 * 3);
+      plan_steps(double(P * opt.schemes.size()) * double(step_count(h, opt.T)) * (opt.reps + 2),
+                 "the runs (problems x schemes x T/h, each run once watched and reps + 1 times timed)", 20 * 3);
     plan_steps(double(P * opt.predict.size() * opt.hs.size()) * double(step_count(opt.orbit_dt, opt.orbit_T) / opt.stride) * 9,
                "the predictions (problems x schemes x h x orbit points x evaluations)", 1e4);
     const auto dir = prepare_output_dir(cli.out);
@@ -63,15 +75,34 @@ int main(int argc, char** argv) {
                         {"orbit_dt", format_number(opt.orbit_dt)}, {"stride", std::to_string(opt.stride)},
                         {"error", "max over the kept rows of |observable - exact| (the problem's observables)"},
                         {"drift", "least-squares slope of I(t_j, q_j, v_j) over [0, T]; spread: |slope of first half - of second|"},
-                        {"predicted", "orbit average of dI/dt along the order-K modified flow on Phi_h = 0"}};
-    TsvWriter tsv(dir / "nonholonomic_suite.tsv", "nonholonomic_suite", params,
-                  {"problem", "scheme", "invariant", "h", "steps", "error", "offset", "max_deviation", "measured_rate",
-                   "measured_spread", "predicted_rate", "predicted_spread", "cpu_seconds"});
-    for (const auto& r : study.rows)
-      tsv.row(r.problem, r.scheme, r.invariant, r.h, r.steps, r.error, r.offset, r.max_deviation, r.measured.rate,
-              r.measured.spread, r.predicted.rate, r.predicted.spread, r.seconds);
+                        {"predicted", "orbit average of dI/dt along the order-K modified flow on Phi_h = 0"},
+                        {"baselines", format_list(opt.baselines)}, {"tols", format_list(opt.tols)},
+                        {"reps", std::to_string(opt.reps)},
+                        {"seconds", "median of reps runs with nothing watched, after a warm-up (wall clock, one thread)"},
+                        {"same_time", "a baseline's error and invariant deviation at the scheme's seconds, log-log between its "
+                                      "tolerances (NaN outside the times they span)"}};
+    std::vector<std::string> columns{"problem", "scheme", "invariant", "h", "tol", "steps", "error", "offset",
+                                     "max_deviation", "measured_rate", "measured_spread", "predicted_rate",
+                                     "predicted_spread", "seconds"};
+    for (const auto& b : opt.baselines) {
+      columns.push_back(b + "_error_same_time");
+      columns.push_back(b + "_deviation_same_time");
+    }
+    TsvWriter tsv(dir / (name + ".tsv"), "nonholonomic_suite", params, columns);
+    for (const auto& r : study.rows) {
+      std::vector<std::string> cells{r.problem, r.scheme, r.invariant, format_cell(r.h), format_cell(r.tol),
+                                     std::to_string(r.steps), format_cell(r.error), format_cell(r.offset),
+                                     format_cell(r.max_deviation), format_cell(r.measured.rate),
+                                     format_cell(r.measured.spread), format_cell(r.predicted.rate),
+                                     format_cell(r.predicted.spread), format_cell(r.seconds)};
+      for (std::size_t b = 0; b < opt.baselines.size(); ++b) {
+        cells.push_back(format_cell(b < r.baseline_error.size() ? r.baseline_error[b] : missing_value));
+        cells.push_back(format_cell(b < r.baseline_deviation.size() ? r.baseline_deviation[b] : missing_value));
+      }
+      tsv.write_row(cells);
+    }
     tsv.commit();
-    TsvWriter fits(dir / "nonholonomic_suite_fits.tsv", "nonholonomic_suite", params,
+    TsvWriter fits(dir / (name + "_fits.tsv"), "nonholonomic_suite", params,
                    {"problem", "scheme", "invariant", "power_measured", "power_predicted", "worst_ratio"});
     std::printf("%-26s %-22s %-9s %9s %9s %9s\n", "problem", "scheme", "invariant", "p_meas", "p_pred", "worst");
     for (const auto& f : study.fits) {
@@ -80,14 +111,24 @@ int main(int argc, char** argv) {
                   f.power_measured, f.power_predicted, f.worst_ratio);
     }
     fits.commit();
-    TsvWriter traces(dir / "nonholonomic_suite_traces.tsv", "nonholonomic_suite", params,
+    // Each scheme against each baseline in the same time (the first invariant's rows carry the run's error).
+    for (std::size_t b = 0; b < opt.baselines.size(); ++b) {
+      std::printf("\n%-26s %-22s %8s %10s %10s %12s\n", "problem", "scheme", "h", "seconds", "error",
+                  (opt.baselines[b] + " same s").c_str());
+      for (const auto& r : study.rows)
+        if (!is_missing(r.h) && b < r.baseline_error.size() &&
+            r.invariant == find_suite_problem(r.problem).invariants.front())
+          std::printf("%-26s %-22s %8g %10.3g %10.3g %12.3g\n", r.problem.c_str(), r.scheme.c_str(), r.h, r.seconds,
+                      r.error, r.baseline_error[b]);
+    }
+    TsvWriter traces(dir / (name + "_traces.tsv"), "nonholonomic_suite", params,
                      {"problem", "scheme", "invariant", "h", "t", "deviation"});
     for (const auto& tr : study.traces)
       for (std::size_t j = 0; j < tr.t.size(); ++j) traces.row(tr.problem, tr.scheme, tr.invariant, tr.h, tr.t[j], tr.deviation[j]);
     traces.commit();
 
     // One panel per (problem, invariant): |I(t) - I(exact start)| against t, every scheme, from the saved traces.
-    const auto t = plots::read_tsv(dir / "nonholonomic_suite_traces.tsv");
+    const auto t = plots::read_tsv(dir / (name + "_traces.tsv"));
     plots::Figure fig;
     std::vector<std::pair<std::string, std::string>> panels;
     for (const auto& tr : study.traces)
@@ -110,7 +151,7 @@ int main(int argc, char** argv) {
       }
       fig.panels.push_back(std::move(p));
     }
-    fig.draw(dir / "nonholonomic_suite_invariants");
+    fig.draw(dir / (name + "_invariants"));
     return 0;
   });
 }

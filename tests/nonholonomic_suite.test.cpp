@@ -1,9 +1,12 @@
 // The nonholonomic benchmark suite (core/include/geomint/nonholonomic_suite.hpp): its closed forms and invariants
 // against Boost.Odeint on each system file's own equations, every scheme's fitted order against the closed forms,
-// and the drift of an invariant predicted by the modified equation against the drift measured on a run.
+// the drift of an invariant predicted by the modified equation against the drift measured on a run, and GSL's rk8pd
+// run through the one door against the same closed forms.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "geomint/modified/formula_modified.hpp"
@@ -164,4 +167,61 @@ TEST_CASE("suite: the drift of the energy on the non-reversible oscillator is th
     INFO(scheme << ": power of h predicted " << pp << ", measured " << pm);
     CHECK(std::abs(pp - pm) < 0.2);
   }
+}
+
+TEST_CASE("suite: rk8pd through the door on the sleigh's exact solution, and set against a scheme at the same time",
+          "[suite][baselines]") {
+  modified::SuiteStudyOptions opt;
+  opt.problems = {"sleigh"};
+  opt.schemes = {"la-midpoint"};
+  opt.predict = {};
+  opt.hs = {0.04, 0.02};
+  opt.T = 20;
+  opt.kept = 200;
+  opt.orbit_T = 1;
+  opt.orbit_dt = 0.1;
+  opt.tols = {1e-4, 1e-7, 1e-10};
+  opt.reps = 1;
+  opt.systems_dir = systems_dir;
+  const auto study = modified::nonholonomic_suite_study(opt);
+  std::vector<std::pair<double, double>> curve;  // (log seconds, log error) of rk8pd
+  std::map<double, double> error_at_tol, deviation_at_tol;
+  for (const auto& r : study.rows)
+    if (r.scheme == "gsl-rk8pd") {
+      REQUIRE(std::isfinite(r.seconds));
+      curve.emplace_back(std::log(r.seconds), std::log(r.error));
+      error_at_tol[r.tol] = r.error;
+      deviation_at_tol[r.tol] = r.max_deviation;
+    }
+  REQUIRE(error_at_tol.size() == 3);
+  // rk8pd's heading against the sleigh's closed form: the error control (relative and absolute tol per step) keeps
+  // the global error within a small multiple of tol over T = 20 (measured: see INFO), and tightening the tolerance
+  // by 1e6 gains at least 1e4 (the closed form is not rk8pd's own restatement: this fails if the door fed rk8pd other
+  // equations or another start).
+  INFO("rk8pd error at tol 1e-4, 1e-7, 1e-10: " << error_at_tol[1e-4] << ", " << error_at_tol[1e-7] << ", "
+                                                 << error_at_tol[1e-10] << "; energy deviation at 1e-10: "
+                                                 << deviation_at_tol[1e-10]);
+  CHECK(error_at_tol[1e-10] < 1e-8);
+  CHECK(error_at_tol[1e-4] > 1e4 * error_at_tol[1e-10]);
+  CHECK(deviation_at_tol[1e-10] < 1e-8);
+  // The scheme's rows carry rk8pd's error at the scheme's own time: log-log between rk8pd's points, missing outside
+  // their range.
+  std::sort(curve.begin(), curve.end());
+  int compared = 0;
+  for (const auto& r : study.rows) {
+    if (r.scheme != "la-midpoint") continue;
+    REQUIRE(r.baseline_error.size() == 1);
+    const double x = std::log(r.seconds);
+    if (x < curve.front().first || x > curve.back().first) {
+      CHECK(is_missing(r.baseline_error[0]));
+      continue;
+    }
+    std::size_t i = 1;
+    while (curve[i].first < x) ++i;
+    const double w = (x - curve[i - 1].first) / (curve[i].first - curve[i - 1].first);
+    const double expected = std::exp(curve[i - 1].second + w * (curve[i].second - curve[i - 1].second));
+    CHECK(std::abs(r.baseline_error[0] / expected - 1) < 1e-12);
+    ++compared;
+  }
+  INFO("scheme rows inside rk8pd's range of times: " << compared);
 }

@@ -3,11 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 
 #include "geomint/error.hpp"
 #include "geomint/modified/formula_modified.hpp"
 #include "geomint/record.hpp"
+#include "geomint/run/baselines.hpp"
+#include "geomint/run/method.hpp"
 
 namespace geomint::modified {
 
@@ -48,7 +49,29 @@ ParamValues with_T(ParamValues pv, double T) {
   return pv;
 }
 
-double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+// y at x on the piecewise-linear curve through (log x_i, log y_i), the points sorted by x; NaN outside their range
+// (a baseline is not extrapolated to a time it never ran in).
+double loglog_at(std::vector<std::pair<double, double>> pts, double x) {
+  std::vector<std::pair<double, double>> ok;
+  for (const auto& [a, b] : pts)
+    if (std::isfinite(a) && std::isfinite(b) && a > 0) ok.emplace_back(std::log(a), std::log(std::max(b, 1e-300)));
+  std::sort(ok.begin(), ok.end());
+  if (ok.size() < 2 || !(x > 0)) return missing_value;
+  const double lx = std::log(x);
+  if (lx < ok.front().first || lx > ok.back().first) return missing_value;
+  for (std::size_t i = 1; i < ok.size(); ++i)
+    if (lx <= ok[i].first) {
+      const double w = ok[i].first > ok[i - 1].first ? (lx - ok[i - 1].first) / (ok[i].first - ok[i - 1].first) : 1.0;
+      return std::exp(ok[i - 1].second + w * (ok[i].second - ok[i - 1].second));
+    }
+  return missing_value;
+}
+
+// One baseline's runs over the tolerances: (seconds, error) and, per invariant, (seconds, max deviation).
+struct BaselineCurve {
+  std::vector<std::pair<double, double>> error;
+  std::vector<std::vector<std::pair<double, double>>> deviation;
+};
 
 }  // namespace
 
@@ -62,6 +85,13 @@ void check_suite_options(const SuiteStudyOptions& opt) {
   require(std::isfinite(opt.orbit_dt) && opt.orbit_dt > 0 && opt.orbit_dt <= opt.orbit_T, "orbit-dt must be in (0, orbit-T]");
   require(opt.stride >= 1, "stride must be >= 1");
   require(opt.trace_points >= 2, "trace-points must be at least 2");
+  require(opt.reps >= 1, "reps must be at least 1");
+  for (const auto& b : opt.baselines) {
+    check_baseline(b);
+    require(is_adaptive_baseline(b), "baseline " + b + " has a fixed step: give an adaptive one (its tolerance is swept)");
+  }
+  require(opt.baselines.empty() || opt.tols.size() >= 2, "give at least two tolerances (a baseline is interpolated between them)");
+  for (double tol : opt.tols) require(std::isfinite(tol) && tol > 0 && tol < 1, "every tolerance must be in (0, 1)");
   for (double h : opt.hs) {
     require(std::isfinite(h) && h > 0, "every h must be positive");
     const long N = step_count(h, opt.T);  // InputError when h does not divide T
@@ -92,6 +122,57 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
       invariants.push_back(suite_invariant_function(s, k));
       exact_start.push_back(invariants.back()(0, &orbit.q[0], &orbit.v[0], nullptr));
     }
+    const ParamValues pv_T = with_T(pv, opt.T);
+    MethodOptions mo;
+    mo.path = Path::generic;
+    std::vector<BaselineCurve> curves;
+    for (const auto& name : opt.baselines) {
+      const Method m = find_method(*s.info, name);
+      BaselineCurve curve;
+      curve.deviation.resize(invariants.size());
+      for (double tol : opt.tols) {
+        Run run;
+        run.n = n;
+        double seconds = missing_value;
+        const std::string context = problem->name + " " + name + " tol = " + format_number(tol);
+        try {
+          const MethodWork w = run_method(*s.info, pv_T, m, tol, mo, [&](double t, const double* q, const double* v) {
+            run.t.push_back(t);
+            run.q.insert(run.q.end(), q, q + n);
+            run.v.insert(run.v.end(), v, v + n);
+          });
+          run.steps = w.steps;
+          seconds = time_method(*s.info, pv_T, m, tol, mo, opt.reps).median;
+        } catch (const NumericalFailure& e) {
+          report_missing(context, e.what());
+          run = Run{};
+        }
+        const double error = run.t.empty() ? missing_value : suite_error(s, run.t, run.q, run.v);
+        curve.error.emplace_back(seconds, error);
+        for (std::size_t k = 0; k < invariants.size(); ++k) {
+          SuiteRow row;
+          row.problem = problem->name;
+          row.scheme = name;
+          row.invariant = problem->invariants[k];
+          row.h = missing_value;
+          row.tol = tol;
+          row.steps = run.steps;
+          row.error = error;
+          row.seconds = seconds;
+          row.measured = row.predicted = {missing_value, missing_value, 0};
+          row.offset = row.max_deviation = missing_value;
+          if (run.t.size() >= 8) {
+            const MeasuredDrift d = measured_drift(run, invariants[k], exact_start[k]);
+            row.measured = d.slope;
+            row.offset = d.offset;
+            row.max_deviation = d.max_deviation;
+          }
+          curve.deviation[k].emplace_back(seconds, row.max_deviation);
+          study.rows.push_back(row);
+        }
+      }
+      curves.push_back(std::move(curve));
+    }
     for (const auto& scheme : opt.schemes) {
       const bool predicted = std::find(opt.predict.begin(), opt.predict.end(), scheme) != opt.predict.end();
       std::vector<std::vector<DriftRate>> measured(invariants.size()), predictions(invariants.size());
@@ -102,9 +183,8 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
         Run run;
         double seconds = missing_value;
         try {
-          const double c0 = cpu_seconds();
-          run = s.info->run(with_T(pv, opt.T), scheme, h, Path::generic, every);
-          seconds = cpu_seconds() - c0;
+          run = s.info->run(pv_T, scheme, h, Path::generic, every);
+          seconds = time_method(*s.info, pv_T, find_method(*s.info, scheme), h, mo, opt.reps).median;
         } catch (const NumericalFailure& e) {
           report_missing(context, e.what());
         }
@@ -121,6 +201,7 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
           row.scheme = scheme;
           row.invariant = problem->invariants[k];
           row.h = h;
+          row.tol = missing_value;
           row.steps = N;
           row.error = error;
           row.seconds = seconds;
@@ -143,6 +224,10 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
             }
           }
           row.predicted = pred[k];
+          for (const auto& c : curves) {
+            row.baseline_error.push_back(loglog_at(c.error, seconds));
+            row.baseline_deviation.push_back(loglog_at(c.deviation[k], seconds));
+          }
           measured[k].push_back(row.measured);
           predictions[k].push_back(row.predicted);
           study.rows.push_back(row);

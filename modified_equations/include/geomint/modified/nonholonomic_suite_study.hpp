@@ -2,7 +2,9 @@
 // The nonholonomic suite's verdict as data: for every problem (nonholonomic_suite.hpp) x scheme x h, a run over
 // [0, T] with its error against the exact observables and, for every invariant, its secular drift measured on the
 // run and predicted from the modified equation (invariant_drift.hpp), with the power of h each follows; and the
-// invariants against time at one h, for the figures.
+// invariants against time at one h, for the figures. The baselines (GSL's rk8pd by default) run through the same
+// door as the schemes (run/method.hpp), over a tolerance, on the system's own equations: each scheme's run is set
+// against what a baseline reaches at the same time, interpolated in log-log between its tolerances.
 #include <string>
 #include <vector>
 
@@ -28,17 +30,25 @@ struct SuiteStudyOptions {
   long stride = 2;     // every stride-th orbit point
   long trace_points = 1000;  // rows of each trace (the middle h; at most the kept rows)
   std::string systems_dir = "docs/systems";
+  std::vector<std::string> baselines{"gsl-rk8pd"};  // adaptive baselines of run/baselines.hpp
+  std::vector<double> tols{1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-13};
+  int reps = 3;        // the times: median of reps runs with nothing watched (after a warm-up), schemes and baselines
 };
 
+// A row is a scheme at step h, or a baseline at tolerance tol (then h is NaN and nothing is predicted).
 struct SuiteRow {
   std::string problem, scheme, invariant;
   double h = 0;
+  double tol = 0;            // NaN for a scheme
   long steps = 0;
   double error = 0;          // suite_error over the kept rows
   double offset = 0;         // I_0 - I(exact start)
   double max_deviation = 0;  // max_j |I_j - I_0|
   DriftRate measured, predicted;  // predicted: rate NaN where the scheme is not predicted
-  double seconds = 0;        // CPU time of the run
+  double seconds = 0;        // time of the run (median of reps, nothing watched)
+  // A scheme's row: what each baseline reaches in the same time (log-log between its tolerances; NaN where the
+  // time is outside the range its tolerances span), one entry per baseline in SuiteStudyOptions::baselines order.
+  std::vector<double> baseline_error, baseline_deviation;
 };
 struct SuiteFit {
   std::string problem, scheme, invariant;
