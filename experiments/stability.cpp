@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
         "schemes");
     if (!cli.parse(argc, argv)) return 0;
     for (int i = 1; i < argc; ++i) names_given = names_given || std::string(argv[i]).rfind("--schemes", 0) == 0;
-    if (sysopt.system().name != "oscillator")
+    // the built-in oscillator itself, not a system that is only named so (a formula system may take any name)
+    if (&sysopt.system() != &find_system("oscillator"))
       return generic_stability(cli, sysopt, names_given ? names : std::vector<std::string>{}, n, h_min, h_max, a_min, a_max);
     require(sysopt.values().empty(), "the oscillator maps take no system parameters (alpha is an axis of the map)");
     require(n >= 4 && n <= 1000, "n must be in [4, 1000]");
@@ -169,8 +170,12 @@ int main(int argc, char** argv) {
 int generic_stability(const Cli& cli, const SystemOptions& sysopt, std::vector<std::string> names, int n, double h_min,
                       double h_max, double a_min, double a_max) {
   const SystemInfo& sys = sysopt.system();
-  require(sys.linear && sys.constraints == 0, "stability maps need a linear system without constraints; '" + sys.name +
-                                                  "' is not (linear: oscillator, forced-oscillator, coupled-oscillators)");
+  // A system file's linearity is not derived (the registry knows it of its own systems only): say that, rather than
+  // call a linear system file nonlinear.
+  require(sys.linear && sys.constraints == 0,
+          "stability maps need a linear system without constraints; '" + sys.name +
+              "' is not known to be one (the registry's linear systems: oscillator, forced-oscillator, "
+              "coupled-oscillators; a system file's linearity is not derived)");
   bool has_alpha = false;
   for (const auto& p : sys.params) has_alpha = has_alpha || p.name == "alpha";
   require(has_alpha, "system '" + sys.name + "' has no parameter alpha to map");

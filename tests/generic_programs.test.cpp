@@ -137,3 +137,12 @@ TEST_CASE("convergence sweeps a parameter and fits orders per scheme", "[program
     CHECK(f.number(i, "fitted_order") == Approx(f.number(i, "expected_order")).margin(0.1));
   }
 }
+
+TEST_CASE("stability maps the built-in oscillator only, not a system file that takes its name", "[programs][generic]") {
+  // A quartic well saved as `name = oscillator`: the oscillator's closed-form maps would be a silently wrong answer.
+  const auto dir = fresh_dir("stability-named-oscillator");
+  std::ofstream(dir / "quartic.geomint") << "[system]\nname = oscillator\ncoordinates = 1\n[parameters]\nalpha = 0.1\n"
+                                            "T = 10\n[dynamics]\nL = v1^2/2 - q1^4/4\nF1 = -alpha*v1\n[initial]\nq1 = 1\nv1 = 0\n";
+  check_rejected("stability", "--system-file " + (dir / "quartic.geomint").string(),
+                 "'oscillator' is not known to be one");
+}
