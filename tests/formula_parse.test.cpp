@@ -12,6 +12,7 @@
 
 #include "geomint/error.hpp"
 #include "geomint/formula/formula_system.hpp"
+#include "geomint/formula/parser.hpp"
 #include "geomint/modified/series.hpp"
 #include "helpers.hpp"
 
