@@ -92,6 +92,8 @@ std::string one_line(std::string_view text) {
     } else if (c1_control(text, i, len)) {
       hex(out, c);
       hex(out, static_cast<unsigned char>(text[i + 1]));
+      i += len;
+      continue;
     } else {
       out.append(text.substr(i, len));
       i += len;
