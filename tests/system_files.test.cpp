@@ -202,7 +202,7 @@ TEST_CASE("T = 0 and a value that is not finite at the initial data are named wi
     auto pv = defaults(*m);
     pv[static_cast<std::size_t>(m->parameter_offset() + m->parameter_index("T"))] = 0;
     CHECK(error_of([&] { formula::validate_model(*m, pv); }) ==
-          "system 't' (test.geomint:5): T must be a positive finite number (the horizon), got 0");
+          "system 't' (test.geomint:5): T must be a positive finite number, got 0");
   }
   // sqrt(q1) at q1 = -1: L itself is nan there (it was blamed on a singular velocity Hessian)
   {

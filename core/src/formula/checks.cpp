@@ -215,7 +215,7 @@ void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
     const int iT = M.parameter_index("T");
     const double T = pv[static_cast<std::size_t>(o + iT)];
     require(T > 0, "system '" + M.name + "' (" + M.parameters[static_cast<std::size_t>(iT)].where.place() +
-                       "): T must be a positive finite number (the horizon), got " + show(T));
+                       "): T must be a positive finite number, got " + show(T));
   }
   // named definitions of parameters first (the clearest message), then every constant part of a formula
   const std::vector<double> defs = F.constants(M.definitions);
