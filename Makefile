@@ -7,7 +7,7 @@ PACKAGES  := cmake make g++ git libeigen3-dev libgsl-dev libboost-dev libboost-p
              libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev catch2 \
              libgnuplot-iostream-dev gnuplot-nox libbenchmark-dev libopenmpi-dev openmpi-bin libginac-dev \
              pkg-config python3-sympy python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest \
-             python3-nbconvert python3-ipykernel
+             python3-nbconvert python3-ipykernel clang libclang-rt-14-dev
 # Warnings are errors in CI.
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,)
 # The sanitizer build: -Og with line tables only. Against -O1 -g1 it builds in 787 s instead of 1094 s and its
@@ -53,7 +53,7 @@ nonholonomic_suite --problems contact-oscillator nonreversible-oscillator --sche
 endef
 export FIGURE_COMMANDS
 
-.PHONY: all deps build figures test bench sanitize clean reference
+.PHONY: all deps build figures test bench sanitize fuzz clean reference
 
 all: build
 
@@ -131,6 +131,18 @@ reference: build
 	@/usr/bin/python3 python/reference.py $(BUILD)/experiments > docs/programs.md.tmp && mv docs/programs.md.tmp docs/programs.md
 	@/usr/bin/python3 python/reference.py --systems $(BUILD)/python > docs/systems.md.tmp && mv docs/systems.md.tmp docs/systems.md
 	@echo "docs/programs.md, docs/systems.md: written"
+
+# The system file reader, parser and compiler fuzzed (libFuzzer, AddressSanitizer, UndefinedBehaviorSanitizer) for
+# FUZZ_SECONDS from the seed corpus docs/systems/ (read only: new inputs go to $(BUILD)/fuzz/corpus). Fails on a
+# crash, a sanitizer report, an input that takes more than 10 s or 2 GB, and a refusal that is not an InputError
+# naming its place (tests/fuzz/formula_reader.fuzz.cpp); the input that did it is left in $(BUILD)/fuzz/.
+FUZZ_SECONDS ?= 60
+fuzz: deps
+	@cmake -S tests/fuzz -B $(BUILD)/fuzz -DCMAKE_CXX_COMPILER=clang++ $(if $(filter true,$(CI)),-DCMAKE_CXX_FLAGS=-Werror,) > /dev/null
+	@cmake --build $(BUILD)/fuzz -j$(JOBS)
+	@mkdir -p $(BUILD)/fuzz/corpus
+	@$(BUILD)/fuzz/formula_reader_fuzz -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 -max_len=32768 \
+	  -print_final_stats=1 -dict=tests/fuzz/formula.dict -artifact_prefix=$(BUILD)/fuzz/ $(BUILD)/fuzz/corpus docs/systems
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer. It links the release build's template units
 # (one per system and shape, generated) instead of compiling them again: cmake/registry_lists.cmake says why.

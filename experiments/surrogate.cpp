@@ -24,6 +24,7 @@
 #include "geomint/formula/model.hpp"
 #include "geomint/io.hpp"
 #include "geomint/modified/surrogate.hpp"
+#include "geomint/system_cli.hpp"
 
 using namespace geomint;
 
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
         "step", po::value(&step)->default_value(step, "0.1"), "the default of the surrogate's step parameter (step) in its file")(
         "budget", po::value(&budget)->default_value(budget), "time budget, seconds per scheme");
     if (!cli.parse(argc, argv)) return 0;
+    (void)find_system_file_arg(argc, argv);  // refuses --system-file "", which would read as the default system
 
     require(K >= 1 && K <= 5, "--order must be an integer in [1, 5]");
     require(std::isfinite(step) && step > 0, "--step must be a positive number");

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "geomint/error.hpp"
+#include "geomint/text.hpp"
 #include "geomint/budget.hpp"
 #include "geomint/formula/description.hpp"
 #include "geomint/generic_ensemble.hpp"
@@ -614,12 +615,14 @@ PYBIND11_MODULE(_geomint, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const NumericalFailure& e) {
-      py::object err = py::reinterpret_borrow<py::object>(numerical_failure.ptr())(e.what());  // an instance
+      // Escaped as the programs print them: a control byte quoted from a file never reaches the user raw, and
+      // bytes that are not UTF-8 cannot make the message undecodable (it would arrive empty).
+      py::object err = py::reinterpret_borrow<py::object>(numerical_failure.ptr())(one_line(e.what()));  // an instance
       err.attr("step") = e.step;
-      err.attr("quantity") = e.quantity;
+      err.attr("quantity") = one_line(e.quantity);
       PyErr_SetObject(numerical_failure.ptr(), err.ptr());
     } catch (const InputError& e) {
-      input_error(e.what());
+      input_error(one_line(e.what()).c_str());
     }
   });
 

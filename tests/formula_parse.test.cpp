@@ -8,9 +8,11 @@
 #include <new>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "geomint/error.hpp"
 #include "geomint/formula/formula_system.hpp"
+#include "geomint/formula/parser.hpp"
 #include "geomint/modified/series.hpp"
 #include "helpers.hpp"
 
@@ -339,6 +341,28 @@ TEST_CASE("bad parameter values are refused by validate with the place", "[formu
     neg.set_parameter("T", -1);
     check_error([&] { neg.validate(); }, "T must be a positive finite number, got -1");
   }
+}
+
+TEST_CASE("the nesting limit counts each level once", "[formula][parse][errors]") {
+  const int limit = formula::max_formula_depth;
+  auto nested = [](int k, const std::string& open, const std::string& close) {
+    std::string s;
+    for (int i = 0; i < k; ++i) s += open;
+    s += "v1";
+    for (int i = 0; i < k; ++i) s += close;
+    return s;
+  };
+  // L = v1*v1/2 + <nested>: the nested formula starts at column 15 of the formula, column 19 of its line
+  for (const auto& [open, close] : {std::pair<std::string, std::string>{"(", ")"}, {"sin(", ")"}, {"-", ""}}) {
+    INFO(open);
+    CHECK_NOTHROW(model_of(system_text(1, "v1*v1/2 + " + nested(limit, open, close))));
+    const std::string msg = error_of([&] { model_of(system_text(1, "v1*v1/2 + " + nested(limit + 1, open, close))); });
+    // the column just after the opening of the level past the limit
+    const int column = 4 + 10 + static_cast<int>(open.size()) * (limit + 1) + 1;
+    CHECK(msg == "test.geomint:9:" + std::to_string(column) + ": L: formula nested more than " + std::to_string(limit) +
+                     " levels deep");
+  }
+  CHECK(limit == 200);
 }
 
 TEST_CASE("a Herglotz form inconsistent with the force is a warning, or an error when asked", "[formula][parse][errors]") {

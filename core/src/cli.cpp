@@ -86,12 +86,6 @@ std::string g_program = "geomint";
 
 const std::string& program_name() { return g_program; }
 
-std::string one_line(const std::string& s) {
-  std::string out;
-  for (char c : s) out += c == '\n' ? std::string("\\n") : c == '\r' ? std::string("\\r") : std::string(1, c);
-  return out;
-}
-
 void print_line(const std::string& text) {
   const std::string line = text + '\n';
   for (std::size_t done = 0; done < line.size();) {
@@ -111,10 +105,10 @@ std::string speaker() {
 }  // namespace
 
 void report_missing(const std::string& context, const std::string& what) {
-  std::string line = speaker() + ": " + context + ": " + what + " (recorded as a missing value)";
+  std::string line = context + ": " + what;
   for (char& c : line)
     if (c == '\n') c = ' ';
-  print_line(line);
+  print_line(speaker() + ": " + one_line(line) + " (recorded as a missing value)");
 }
 
 int guarded_main(const std::string& program, const std::function<int()>& body) {

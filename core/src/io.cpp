@@ -12,6 +12,7 @@
 
 #include "created_folders.hpp"
 #include "geomint/error.hpp"
+#include "geomint/text.hpp"
 #include "geomint/sweep.hpp"
 
 namespace geomint {
@@ -163,8 +164,10 @@ TsvWriter::TsvWriter(const fs::path& path, const std::string& program, const Par
                      std::vector<std::string> columns)
     : file_(path), name_(path.filename().string()), columns_(std::move(columns)) {
   std::FILE* f = file_.handle();
-  std::fprintf(f, "# program: %s\n# git: %s\n", program.c_str(), git_revision());
-  for (const auto& [k, v] : params) std::fprintf(f, "# %s: %s\n", k.c_str(), v.c_str());
+  std::fprintf(f, "# program: %s\n# git: %s\n", one_line(program).c_str(), git_revision());
+  // One line per entry whatever it holds: a --system-file path with a newline in it would start a line of its own
+  // (a row to a reader), a control byte would act on the terminal that shows the file.
+  for (const auto& [k, v] : params) std::fprintf(f, "# %s: %s\n", one_line(k).c_str(), one_line(v).c_str());
   write_row(columns_);
   rows_ = 0;
 }

@@ -33,13 +33,23 @@ std::string find_system_arg(int argc, char** argv, const std::string& fallback) 
   return name;
 }
 
-// --system-file PATH or --system-file=PATH in argv ("" when absent).
+// --system-file PATH or --system-file=PATH in argv ("" when absent). An empty PATH is refused: it is what an unset
+// shell variable gives ("--system-file $F"), and taken as "absent" it ran the default system in its place.
 std::string find_system_file_arg(int argc, char** argv) {
   std::string path;
+  bool given = false;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--system-file") == 0 && i + 1 < argc) path = argv[i + 1];
-    if (std::strncmp(argv[i], "--system-file=", 14) == 0) path = argv[i] + 14;
+    if (std::strcmp(argv[i], "--system-file") == 0 && i + 1 < argc) {
+      path = argv[i + 1];
+      given = true;
+    }
+    if (std::strncmp(argv[i], "--system-file=", 14) == 0) {
+      path = argv[i] + 14;
+      given = true;
+    }
   }
+  require(!given || !path.empty(), "--system-file is given an empty path (an unset shell variable?): name a system file, "
+                                   "or leave the option out for the default system");
   return path;
 }
 

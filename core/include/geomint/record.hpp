@@ -9,6 +9,7 @@
 #include <boost/numeric/odeint/util/odeint_error.hpp>
 
 #include "geomint/error.hpp"
+#include "geomint/text.hpp"
 
 namespace geomint {
 
@@ -16,8 +17,6 @@ namespace geomint {
 const std::string& program_name();
 // Prints the one-line message above on stderr.
 void report_missing(const std::string& context, const std::string& what);
-// Text on one line whatever it quotes (a path may hold a newline): \n and \r written as escapes.
-std::string one_line(const std::string& s);
 // `line` and a newline on stderr in one write(2): under mpiexec the ranks' lines arrive whole, never interleaved.
 void print_line(const std::string& line);
 

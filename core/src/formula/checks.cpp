@@ -204,11 +204,19 @@ class Formulas {
 void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
   const Formulas F(M, pv);
   const int n = M.n, o = M.parameter_offset();
+  // Each refusal names the system and where the parameter is declared: the value may come from the file or from a
+  // command line, and the user needs to find which.
   for (std::size_t i = 0; i < M.parameters.size(); ++i) {
     const double x = pv[static_cast<std::size_t>(o) + i];
-    require(std::isfinite(x), "system '" + M.name + "': parameter " + M.parameters[i].name + " must be finite, got " + show(x));
+    require(std::isfinite(x), "system '" + M.name + "' (" + M.parameters[i].where.place() + "): parameter " +
+                                  M.parameters[i].name + " must be finite, got " + show(x));
   }
-  require_positive(pv[static_cast<std::size_t>(o + M.parameter_index("T"))], "T");
+  {
+    const int iT = M.parameter_index("T");
+    const double T = pv[static_cast<std::size_t>(o + iT)];
+    require(T > 0, "system '" + M.name + "' (" + M.parameters[static_cast<std::size_t>(iT)].where.place() +
+                       "): T must be a positive finite number, got " + show(T));
+  }
   // named definitions of parameters first (the clearest message), then every constant part of a formula
   const std::vector<double> defs = F.constants(M.definitions);
   for (std::size_t i = 0; i < defs.size(); ++i)
@@ -249,6 +257,15 @@ void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
   for (bool contact : {false, true}) {
     if (contact && !M.has_herglotz()) continue;
     const auto H = contact ? F.second(M.herglotz, t0, q0, v0, 0, true) : F.second(M.lagrangian, t0, q0, v0, 0, false);
+    // A value that is not finite (sqrt of a negative q0) is named as such, not as a singular Hessian.
+    const std::string which = contact ? "the Herglotz Lagrangian" : "L";
+    const std::string place = (contact ? M.herglotz_at : M.lagrangian_at).place();
+    const std::string at_start = " at the initial data (q0 = " + show_vec(q0) + ", v0 = " + show_vec(v0) + ")";
+    if (!std::isfinite(H.value))
+      throw InputError(place + ": " + which + " is not finite" + at_start + ": " + which + " = " + show(H.value));
+    if (!H.grad.allFinite() || !H.hess.allFinite())
+      throw InputError(place + ": the derivatives of " + which + " are not finite" + at_start +
+                       " (a square root or logarithm at 0, a division by 0?)");
     const MatrixXd Mv = H.hess.block(1 + n, 1 + n, n, n);
     double smin = 0, smax = 0;
     if (singular(Mv, 1e-12, smin, smax))
@@ -256,6 +273,11 @@ void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
                        (contact ? "the Herglotz Lagrangian" : "L") + " is singular at the initial data (q0 = " + show_vec(q0) +
                        ", v0 = " + show_vec(v0) + ", singular values " + show(smax) + (n > 1 ? " ... " + show(smin) : "") +
                        "): no Legendre transform, the schemes cannot step");
+  }
+  if (M.has_energy()) {
+    const double E = F.values(M.energy, t0, q0, v0, 0)[0];
+    require(std::isfinite(E), M.origin.place() + ": the energy E is not finite at the initial data (q0 = " + show_vec(q0) +
+                                  ", v0 = " + show_vec(v0) + "): E = " + show(E));
   }
   if (M.strict_herglotz && M.has_herglotz()) {
     const std::string why = herglotz_mismatch(M, pv);

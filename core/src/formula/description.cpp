@@ -1,12 +1,15 @@
 #include "geomint/formula/description.hpp"
 
 #include <cctype>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <system_error>
 
 #include "geomint/error.hpp"
+#include "geomint/formula/option_names.hpp"
+#include "geomint/text.hpp"
 
 namespace geomint::formula {
 
@@ -63,6 +66,9 @@ class Reader {
     while (std::getline(in, raw)) {
       ++line_;
       if (!raw.empty() && raw.back() == '\r') raw.pop_back();
+      // A byte order mark is how some editors begin UTF-8 text: not part of the first line.
+      if (line_ == 1 && raw.compare(0, 3, "\xef\xbb\xbf") == 0) raw.erase(0, 3);
+      printable(raw);
       line(raw);
     }
     finish();
@@ -73,6 +79,22 @@ class Reader {
   [[noreturn]] void fail(const std::string& what, int column = 0) const {
     throw InputError(d_.origin.source + ":" + std::to_string(line_) + (column > 0 ? ":" + std::to_string(column) : "") +
                      ": " + what);
+  }
+
+  // Text only: a control byte would reach the terminal in a message (an ESC sequence acts on it, a NUL cuts the
+  // message), and a byte that is not UTF-8 (a Latin-1 degree sign in a comment) could not be shown or handed to
+  // Python as text.
+  void printable(const std::string& raw) const {
+    const std::size_t at = first_unprintable(raw, "\t");
+    if (at == std::string::npos) return;
+    const auto c = static_cast<unsigned char>(raw[at]);
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02x", c);
+    if (c < 0x20 || c == 0x7f || (c == 0xc2 && at + 1 < raw.size() && static_cast<unsigned char>(raw[at + 1]) < 0xa0))
+      fail(std::string("control character (byte ") + byte + (c == '\r' ? ", a carriage return inside the line" : "") +
+               "): a system file is plain text",
+           static_cast<int>(at) + 1);
+    fail(std::string("byte ") + byte + " is not UTF-8 text: save the file as UTF-8", static_cast<int>(at) + 1);
   }
 
   void line(const std::string& raw) {
@@ -141,6 +163,9 @@ class Reader {
         fail("unknown key '" + key + "' in [system] (keys: name, description, coordinates)");
       }
     } else if (section_ == "parameters") {
+      if (is_program_option_name(key))
+        fail("parameter '" + key + "' has the name of a program option (--" + key +
+             "): as an option of its own it would take that option's place; rename it");
       d_.parameters.push_back({key, f, comment});
     } else if (section_ == "definitions") {
       d_.definitions.push_back({key, f});
@@ -243,6 +268,8 @@ SystemDescription parse_system_file(const std::string& text, const std::string& 
 }
 
 SystemDescription read_system_file(const std::filesystem::path& path) {
+  // An unset shell variable ("--system-file $F") must not read as "no file".
+  require(!path.empty(), "the system file's path is empty");
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   require(!ec && std::filesystem::exists(status), "cannot read system file '" + path.string() + "': no such file");

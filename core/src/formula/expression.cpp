@@ -89,7 +89,8 @@ int Expressions::intern(const Node& node) {
       n.depth = std::max(n.depth, (*this)[c].depth + 1);
     }
   if (n.depth > max_depth)
-    throw InputError("expression nested more than " + std::to_string(max_depth) + " levels deep (through its definitions)");
+    throw InputError("more than " + std::to_string(max_depth) +
+                     " operations deep (counting those of the definitions it uses, and of the derivatives taken of it)");
   nodes_.push_back(n);
   const int id = size() - 1;
   index_.emplace(key, id);

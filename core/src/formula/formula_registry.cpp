@@ -104,6 +104,12 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
               compiled_formula_shapes() + " (one line in core/src/formula/shapes.def adds a shape)");
   const SystemInfo& shape = shape_info(index, model);
   SystemInfo entry = shape;
+  // The shape's entry was built once, with the first model of its shape installed: what it read from that model's
+  // parameters is this model's to give. Expectations are the defaults of generic::expectations_of (a formula
+  // system declares none): the horizon cut to 20, at this model's horizon.
+  entry.expectations = Expectations{};
+  if (const int iT = model->parameter_index("T"); iT >= 0 && model->parameters[static_cast<std::size_t>(iT)].value > 20)
+    entry.expectations.params = {{"T", 20}};
   entry.name = model->name;
   entry.description = model->description;
   entry.has_herglotz = model->has_herglotz();

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <unordered_set>
 
 #include "geomint/error.hpp"
 #include "geomint/formula/parser.hpp"
+#include "geomint/text.hpp"
 
 namespace geomint::formula {
 
@@ -89,6 +91,7 @@ class ModelCompiler {
     M.n = n;
     M.m = static_cast<int>(d_.constraints.size());
     M.holonomic = d_.constraint_kind == ConstraintKind::holonomic && M.m > 0;
+    printable_description();
     check_name();
     if (!supported_shape(n, M.m))
       whole(std::to_string(M.m) + " constraint row" + (M.m == 1 ? "" : "s") + " with " + std::to_string(n) +
@@ -139,14 +142,14 @@ class ModelCompiler {
         forbid(row, V.v_bits(), f, what, "depends on the velocities: a holonomic constraint g(t, q) is a function of t and q (a row linear in the velocities is written phi" + std::to_string(r + 1) + " = ...)");
         g.push_back(row);
         for (int k = 0; k < n; ++k) {
-          A.push_back(ex_.derivative(row, V.q(k)));
+          A.push_back(at(f, what, [&] { return ex_.derivative(row, V.q(k)); }));
           any = any || !ex_.is_number(A.back(), 0);
         }
-        b.push_back(ex_.derivative(row, V.t()));
+        b.push_back(at(f, what, [&] { return ex_.derivative(row, V.t()); }));
         if (!any) fail_at(f, what, "does not depend on q: g(t) = 0 constrains no motion");
       } else {
         for (int k = 0; k < n; ++k) {
-          const int a = ex_.derivative(row, V.v(k));
+          const int a = at(f, what, [&] { return ex_.derivative(row, V.v(k)); });
           const std::uint32_t nonlinear = ex_[a].uses & V.v_bits();
           if (nonlinear)
             fail_at(f, what, "is not linear in the velocities: its coefficient of v" + std::to_string(k + 1) + " depends on " +
@@ -154,7 +157,7 @@ class ModelCompiler {
           A.push_back(a);
           any = any || !ex_.is_number(a, 0);
         }
-        b.push_back(ex_.substitute_zero(row, V.v_bits()));
+        b.push_back(at(f, what, [&] { return ex_.substitute_zero(row, V.v_bits()); }));
         if (!any) fail_at(f, what, "has no velocity in it: a constraint on the positions is written as a holonomic row g" + std::to_string(r + 1) + " = ...");
       }
     }
@@ -177,11 +180,13 @@ class ModelCompiler {
         }
         return true;
       };
-      bool linear = quadratic(L);
-      if (linear && H >= 0) linear = quadratic(H) && constant(ex_.derivative(H, V.z()));
-      for (int f : F)
+      bool linear = at(d_.lagrangian, "L", [&] { return quadratic(L); });
+      if (linear && H >= 0)
+        linear = at(d_.herglotz, "herglotz", [&] { return quadratic(H) && constant(ex_.derivative(H, V.z())); });
+      for (std::size_t i = 0; i < F.size(); ++i)
         for (int a : qv)
-          if (linear && !constant(ex_.derivative(f, a))) linear = false;
+          if (linear && !at(d_.force[i], "F" + std::to_string(i + 1), [&] { return constant(ex_.derivative(F[i], a)); }))
+            linear = false;
       if (M.holonomic)
         for (int a : A)
           if ((ex_[a].uses & V.q_bits()) != 0) linear = false;
@@ -223,7 +228,12 @@ class ModelCompiler {
     ConstantTable table(static_cast<int>(M.numbers.size()), static_cast<int>(M.parameters.size()));
     auto state = [&](const std::vector<int>& roots, const Where& w, const std::string& what) {
       const std::size_t before = table.derived().size();
-      Tape t = compile_state_tape(ex_, roots, table);
+      Tape t;
+      try {
+        t = compile_state_tape(ex_, roots, table);
+      } catch (const InputError& e) {
+        throw InputError(placed(w, what) + ": " + e.what());
+      }
       for (std::size_t k = before; k < table.derived().size(); ++k) M.derived_origin.push_back(placed(w, what));
       return t;
     };
@@ -240,15 +250,25 @@ class ModelCompiler {
       M.constraint_offset = state(b, w, "the constraint rows");
       if (M.holonomic) M.holonomic_g = state(g, w, "the constraint rows");
     }
-    M.prelude = compile_constant_tape(ex_, table.derived(), table.numbers(), table.parameters());
-    M.initial = compile_constant_tape(ex_, init, table.numbers(), table.parameters());
+    try {
+      M.prelude = compile_constant_tape(ex_, table.derived(), table.numbers(), table.parameters());
+    } catch (const InputError& e) {
+      whole(std::string("the parts of the formulas that depend on the parameters only: ") + e.what());
+    }
+    M.initial = at(d_.initial_q[0], "the initial data", [&] {
+      return compile_constant_tape(ex_, init, table.numbers(), table.parameters());
+    });
     std::vector<int> constant_defs;
     for (const auto& def : defs_)
       if (ex_.is_constant(def.node)) {
         constant_defs.push_back(def.node);
         M.definition_names.push_back({def.name, def.where});
       }
-    M.definitions = compile_constant_tape(ex_, constant_defs, table.numbers(), table.parameters());
+    try {
+      M.definitions = compile_constant_tape(ex_, constant_defs, table.numbers(), table.parameters());
+    } catch (const InputError& e) {
+      whole(std::string("the definitions of parameters: ") + e.what());
+    }
     return model_;
   }
 
@@ -271,6 +291,51 @@ class ModelCompiler {
   [[noreturn]] void fail_at(const FormulaText& f, const std::string& what, const std::string& message) const {
     throw InputError(placed(f.where, what) + " " + message);
   }
+  // Symbolic work on a parsed formula (a derivative, a tape) can pass a limit of the expression graph that its
+  // text kept to: the refusal names the formula it came from.
+  template <class Body>
+  auto at(const FormulaText& f, const std::string& what, Body&& body) -> decltype(body()) {
+    try {
+      return body();
+    } catch (const InputError& e) {
+      throw InputError(placed(f.where, what) + ": " + e.what());
+    }
+  }
+
+  // Text given in memory (the Python module) is held to what the file reader holds a file to: no control byte (it
+  // would reach the terminal in a message, and a NUL would cut the message) and UTF-8 only.
+  void printable(const std::string& text, const std::string& what, const Where* where = nullptr) const {
+    const std::size_t i = first_unprintable(text, "\t");
+    if (i == std::string::npos) return;
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02x", static_cast<unsigned char>(text[i]));
+    const std::string why = "has a control character or a byte that is not UTF-8 (byte " + std::string(byte) + ")";
+    if (where && where->line > 0) throw InputError(where->at(static_cast<int>(i) + 1) + ": " + what + " " + why);
+    if (where) throw InputError(where->source + ", column " + std::to_string(i + 1) + ": " + what + " " + why);
+    whole(what + " " + why + " at byte " + std::to_string(i + 1));
+  }
+  void printable_description() const {
+    printable(d_.name, "the system's name");
+    printable(d_.description, "the description");
+    auto formula = [&](const FormulaText& f, const std::string& what) { printable(f.text, what, &f.where); };
+    for (const auto& p : d_.parameters) {
+      printable(p.name, "a parameter's name", &p.value.where);
+      printable(p.doc, "parameter " + p.name + "'s doc", &p.value.where);
+      formula(p.value, "parameter " + p.name);
+    }
+    for (const auto& def : d_.definitions) {
+      printable(def.name, "a definition's name", &def.value.where);
+      formula(def.value, "definition " + def.name);
+    }
+    formula(d_.lagrangian, "L");
+    formula(d_.herglotz, "herglotz");
+    formula(d_.energy, "E");
+    for (const auto& f : d_.force) formula(f, "F");
+    for (const auto& f : d_.constraints) formula(f, "constraint");
+    for (const auto& f : d_.initial_q) formula(f, "initial q");
+    for (const auto& f : d_.initial_v) formula(f, "initial v");
+  }
+
   void require_given(const FormulaText& f, const std::string& what, const std::string& name) const {
     if (!f.given()) whole("no " + name + " (" + what + ")");
   }
@@ -308,6 +373,7 @@ class ModelCompiler {
       const int node = parse(p.value, what, Scope{true, false, 0});
       const double v = constant_value(ex_, node);
       if (!std::isfinite(v)) fail_at(p.value, what, "= " + p.value.text + " is not a finite number");
+      if (p.name == "T" && !(v > 0)) fail_at(p.value, what, "= " + p.value.text + ": the horizon must be positive");
       M.parameters.push_back({p.name, v, p.doc, p.value.where});
     }
     if (M.parameter_index("T") < 0) whole("no parameter T (the horizon): add 'T = ...' to [parameters]");

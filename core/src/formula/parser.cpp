@@ -61,8 +61,9 @@ class Parser {
     ~Depth() { --p.depth_; }
   };
 
+  // The depth is counted in unary() alone: every level of nesting (a parenthesis, a function's argument, an
+  // exponent, a sign) passes through it once, so max_formula_depth is the number of levels a user can write.
   int formula() {
-    Depth guard(*this);
     int left = term();
     for (;;) {
       skip();
@@ -209,7 +210,7 @@ class Parser {
   const std::string& s_;
   const Resolver& resolve_;
   std::size_t i_ = 0;
-  int depth_ = 0;
+  int depth_ = -1;  // the formula itself is level 0, each nesting one more
 };
 
 }  // namespace
