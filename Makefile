@@ -49,7 +49,7 @@ long_horizon --system kepler
 long_horizon --system pendulum --alpha 0.01
 kepler_anchor
 nonholonomic_suite
-nonholonomic_suite --problems contact-oscillator nonreversible-oscillator --schemes la contact la-midpoint --T 10000 --reps 1 --name nonholonomic_suite_long
+nonholonomic_suite --problems contact-oscillator nonreversible-oscillator --schemes la contact la-midpoint --T 10000 --reps 1 --stride 8 --name nonholonomic_suite_long
 endef
 export FIGURE_COMMANDS
 

@@ -76,11 +76,11 @@ int main(int argc, char** argv) {
                         {"error", "max over the kept rows of |observable - exact| (the problem's observables)"},
                         {"drift", "least-squares slope of I(t_j, q_j, v_j) over [0, T]; spread: |slope of first half - of second|"},
                         {"predicted", "orbit average of dI/dt along the order-K modified flow on Phi_h = 0"},
-                        {"baselines", format_list(opt.baselines)}, {"tols", format_list(opt.tols)},
+                        {"baselines", join_names(opt.baselines)}, {"tols", format_list(opt.tols)},
                         {"reps", std::to_string(opt.reps)},
                         {"seconds", "median of reps runs with nothing watched, after a warm-up (wall clock, one thread)"},
                         {"same_time", "a baseline's error and invariant deviation at the scheme's seconds, log-log between its "
-                                      "tolerances (NaN outside the times they span)"}};
+                                      "tolerances; missing below its fastest run; beyond its slowest run, what that run reached in less time"}};
     std::vector<std::string> columns{"problem", "scheme", "invariant", "h", "tol", "steps", "error", "offset",
                                      "max_deviation", "measured_rate", "measured_spread", "predicted_rate",
                                      "predicted_spread", "seconds"};

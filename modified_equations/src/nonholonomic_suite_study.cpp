@@ -49,8 +49,9 @@ ParamValues with_T(ParamValues pv, double T) {
   return pv;
 }
 
-// y at x on the piecewise-linear curve through (log x_i, log y_i), the points sorted by x; NaN outside their range
-// (a baseline is not extrapolated to a time it never ran in).
+// y at x on the piecewise-linear curve through (log x_i, log y_i), the points sorted by x. Below the fastest point:
+// NaN (the baseline never ran that fast). Beyond the slowest: the slowest point's y, what the baseline reached in
+// less time than x (its tightest tolerance; more time would only lower it) — a bound, never an extrapolation.
 double loglog_at(std::vector<std::pair<double, double>> pts, double x) {
   std::vector<std::pair<double, double>> ok;
   for (const auto& [a, b] : pts)
@@ -58,7 +59,8 @@ double loglog_at(std::vector<std::pair<double, double>> pts, double x) {
   std::sort(ok.begin(), ok.end());
   if (ok.size() < 2 || !(x > 0)) return missing_value;
   const double lx = std::log(x);
-  if (lx < ok.front().first || lx > ok.back().first) return missing_value;
+  if (lx < ok.front().first) return missing_value;
+  if (lx >= ok.back().first) return std::exp(ok.back().second);
   for (std::size_t i = 1; i < ok.size(); ++i)
     if (lx <= ok[i].first) {
       const double w = ok[i].first > ok[i - 1].first ? (lx - ok[i - 1].first) / (ok[i].first - ok[i - 1].first) : 1.0;

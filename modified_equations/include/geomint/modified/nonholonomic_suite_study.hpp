@@ -46,8 +46,9 @@ struct SuiteRow {
   double max_deviation = 0;  // max_j |I_j - I_0|
   DriftRate measured, predicted;  // predicted: rate NaN where the scheme is not predicted
   double seconds = 0;        // time of the run (median of reps, nothing watched)
-  // A scheme's row: what each baseline reaches in the same time (log-log between its tolerances; NaN where the
-  // time is outside the range its tolerances span), one entry per baseline in SuiteStudyOptions::baselines order.
+  // A scheme's row: what each baseline reaches in the same time (log-log between its tolerances; NaN below its
+  // fastest run; beyond its slowest, what that run reached in less time), one entry per baseline in
+  // SuiteStudyOptions::baselines order.
   std::vector<double> baseline_error, baseline_deviation;
 };
 struct SuiteFit {
