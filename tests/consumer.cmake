@@ -1,8 +1,8 @@
 # The installed CMake package, tested as a user meets it: `cmake --install` of this build into a fresh prefix, then
 # tests/consumer/ (find_package(geomint CONFIG REQUIRED)) configured, built against that prefix alone and run.
 # cmake -DBUILD=<build dir> -DSOURCE=<source dir> -DWORK=<scratch dir> -DCXX=<compiler> [-DLAUNCHER=ccache]
-#       -DGENERATOR=<generator> -P consumer.cmake
-foreach(var BUILD SOURCE WORK CXX GENERATOR)
+#       -DGENERATOR=<generator> -DLIBDIR=<CMAKE_INSTALL_LIBDIR> -P consumer.cmake
+foreach(var BUILD SOURCE WORK CXX GENERATOR LIBDIR)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "consumer.cmake: -D${var}=... is required")
   endif()
@@ -27,7 +27,7 @@ run("configuring the consumer" ${CMAKE_COMMAND} -S ${SOURCE}/tests/consumer -B $
     -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER}
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
 file(STRINGS ${consumer}/CMakeCache.txt found REGEX "^geomint_DIR:")
-if(NOT found STREQUAL "geomint_DIR:PATH=${prefix}/lib/cmake/geomint")
+if(NOT found STREQUAL "geomint_DIR:PATH=${prefix}/${LIBDIR}/cmake/geomint")
   message(FATAL_ERROR "the consumer found another geomint: ${found}")
 endif()
 run("building the consumer" ${CMAKE_COMMAND} --build ${consumer})
