@@ -13,8 +13,7 @@ foreach(name core studies modified plots)
   add_library(geomint::${name} ALIAS geomint_${name})
 endforeach()
 install(TARGETS geomint_core geomint_studies geomint_modified geomint_plots EXPORT geomintTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})  # their include directory is each one's INSTALL_INTERFACE
 # Every public header is under <library>/include/geomint/, so the four trees merge into one include/geomint/. None
 # includes a generated file (those stay in the libraries' sources).
 foreach(dir core studies modified_equations plots)
