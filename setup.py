@@ -19,6 +19,7 @@ import sysconfig
 
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
+from setuptools.errors import SetupError  # reported as "error: ..." without a traceback
 
 ROOT = os.path.dirname(os.path.abspath(__file__))
 # setuptools' own files (the egg-info, the wheel's staging) in the build, not in the source tree, and not in build/,
@@ -32,7 +33,7 @@ def project_version():
     with open(os.path.join(ROOT, "CMakeLists.txt"), encoding="utf-8") as f:
         match = re.search(r"project\(geomint VERSION ([0-9.]+)", f.read())
     if not match:
-        raise RuntimeError("setup.py: no 'project(geomint VERSION x.y' in CMakeLists.txt")
+        raise SetupError("setup.py: no 'project(geomint VERSION x.y' in CMakeLists.txt")
     return match.group(1)
 
 
@@ -41,9 +42,17 @@ def run(command, what):
     try:
         subprocess.run(command, check=True)
     except FileNotFoundError as e:
-        raise RuntimeError(f"setup.py: {what}: {e.filename} not found (Debian: apt-get install cmake)") from e
+        raise SetupError(f"setup.py: {what}: {e.filename} not found (Debian: apt-get install cmake)") from e
     except subprocess.CalledProcessError as e:
-        raise RuntimeError(f"setup.py: {what} failed (exit {e.returncode}); its output is above") from e
+        raise SetupError(f"setup.py: {what} failed (exit {e.returncode}); its output is above") from e
+
+
+def is_geomint_build(build_dir):
+    try:
+        with open(os.path.join(build_dir, "CMakeCache.txt"), encoding="utf-8") as f:
+            return "CMAKE_PROJECT_NAME:STATIC=geomint\n" in f.read()
+    except OSError:
+        return False
 
 
 class CMakeBuild(build_ext):
@@ -51,9 +60,10 @@ class CMakeBuild(build_ext):
         build_dir = os.environ.get("GEOMINT_BUILD_DIR")
         if build_dir:
             build_dir = os.path.abspath(build_dir)
-            if not os.path.isfile(os.path.join(build_dir, "CMakeCache.txt")):
-                raise RuntimeError(f"setup.py: GEOMINT_BUILD_DIR={build_dir} is not a configured CMake build of "
-                                   "geomint (no CMakeCache.txt): configure it first (make build) or leave it unset")
+            if not is_geomint_build(build_dir):
+                raise SetupError(f"setup.py: GEOMINT_BUILD_DIR={build_dir} is not a configured CMake build of "
+                                 "geomint (no CMakeCache.txt of project geomint): configure it first (make build) "
+                                 "or leave GEOMINT_BUILD_DIR unset")
         else:
             build_dir = os.path.join(WORK, "cmake")
             # the interpreter pip runs is the module's (its version and ABI); Release as `make` builds
@@ -69,7 +79,7 @@ class CMakeBuild(build_ext):
         module = os.path.join(build_dir, "python", "geomint", "_geomint" + suffix)
         if not os.path.isfile(module):
             found = sorted(os.listdir(os.path.dirname(module))) if os.path.isdir(os.path.dirname(module)) else []
-            raise RuntimeError(f"setup.py: no {module} after the build (found: {', '.join(found) or 'nothing'}): "
+            raise SetupError(f"setup.py: no {module} after the build (found: {', '.join(found) or 'nothing'}): "
                                f"the build's Python (GEOMINT_PYTHON in its CMakeCache.txt) is not {sys.executable}")
         target = self.get_ext_fullpath(ext.name)
         os.makedirs(os.path.dirname(target), exist_ok=True)
