@@ -9,7 +9,9 @@ foreach(var PYTHON SOURCE BUILD WORK)
   endif()
 endforeach()
 
-file(REMOVE_RECURSE ${WORK})  # a fresh environment every time: an earlier install must not pass for this one
+# a fresh environment every time, and setup.py's staging (GEOMINT_BUILD_DIR/pip, where setuptools keeps the
+# wheel's files between runs) gone: an earlier install must not pass for this one
+file(REMOVE_RECURSE ${WORK} ${BUILD}/pip)
 set(venv ${WORK}/venv)
 function(run what)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
