@@ -3,11 +3,14 @@
 BUILD     ?= build
 OUT       ?= out
 JOBS      ?= $(shell nproc 2>/dev/null || echo 2)
+# matplotlib and jupyter-notebook (the `jupyter` command): the example notebook's figures, in a notebook; python3-venv,
+# -setuptools and -pip: `pip install .` of the module into a virtual environment (README).
 PACKAGES  := cmake make g++ git libeigen3-dev libgsl-dev libboost-dev libboost-program-options-dev \
              libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev catch2 \
              libgnuplot-iostream-dev gnuplot-nox libbenchmark-dev libopenmpi-dev openmpi-bin libginac-dev \
              pkg-config python3-sympy python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest \
-             python3-nbconvert python3-ipykernel clang libclang-rt-14-dev
+             python3-nbconvert python3-ipykernel python3-matplotlib jupyter-notebook \
+             python3-venv python3-setuptools python3-pip clang libclang-rt-14-dev
 # Warnings are errors in CI.
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release $(if $(filter true,$(CI)),-DGEOMINT_WERROR=ON,)
 # The sanitizer build: -Og with line tables only. Against -O1 -g1 it builds in 787 s instead of 1094 s and its
