@@ -35,10 +35,9 @@ int main(int argc, char** argv) {
     const SchemeInfo& sc = sys.scheme(scheme);
     const Path path = parse_path(path_name);
     require_positive(h, "h");
-    require(every >= 1, "every must be a positive integer, got " + std::to_string(every));
     const double T = sys.horizon(pv);
+    plan_run(sys, sc.name, path, h, T, every);
     const long N = step_count(h, T);
-    plan_steps(static_cast<double>(N), "the run (T/h)", step_cost(sys, sc.name, path));
     require(N / every <= 2000000, "the table would have " + std::to_string(N / every) +
                                       " rows (limit 2e6): raise --every");
     const auto dir = prepare_output_dir(cli.out);

@@ -172,4 +172,14 @@ double step_cost(const SystemInfo& sys, const std::string& scheme, Path path) {
   return path == Path::fast && !sc.fast_path.empty() ? 1.0 : generic_step_cost;
 }
 
+void plan_run(const SystemInfo& sys, const std::string& scheme, Path path, double h, double T, long every,
+              double copies, const std::string& raise) {
+  require(every >= 1, "every must be a positive integer, got " + std::to_string(every));
+  const long N = step_count(h, T);
+  plan_steps(static_cast<double>(N), "the run (T/h)", step_cost(sys, scheme, path));
+  const double rows = static_cast<double>(N / every + 1);
+  check_memory(copies * rows * Run::bytes_per_step(sys.dof, sys.constraints),
+               "the run's " + show(rows) + " kept rows (raise " + raise + ")");
+}
+
 }  // namespace geomint
