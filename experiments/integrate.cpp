@@ -13,6 +13,7 @@
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/system_cli.hpp"
+#include "geomint/run_checks.hpp"
 #include "geomint/step_cost.hpp"
 
 using namespace geomint;
@@ -43,6 +44,7 @@ int main(int argc, char** argv) {
     const auto dir = prepare_output_dir(cli.out);
 
     const Run run = sys.run(pv, scheme, h, path, every);
+    require_finite_run(run, "system " + sys.name + ", scheme " + sc.name + " (" + to_string(path) + "), h = " + show(h));
     const int n = run.n, m = run.m;
     Params params = sysopt.header();
     params.insert(params.end(), {{"scheme", sc.name + ": " + sc.description()},

@@ -39,6 +39,7 @@
 #include <tuple>
 
 #include "geomint/budget.hpp"
+#include "geomint/modified/plan.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"

@@ -26,8 +26,10 @@
 #include "geomint/modified/all_orders.hpp"
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/modified/formula_modified.hpp"
+#include "geomint/modified/plan.hpp"
 #include "geomint/modified/surrogate.hpp"
 #include "geomint/registry.hpp"
+#include "geomint/run_checks.hpp"
 #include "geomint/step_cost.hpp"
 #include "geomint/study.hpp"
 #include "geomint/sweep.hpp"
@@ -217,6 +219,7 @@ py::dict integrate(const System& s, const std::string& scheme, double h, const p
     py::gil_scoped_release release;
     run = sys.run(pv, scheme, h, p, every);
   }
+  require_finite_run(run, "system " + sys.name + ", scheme " + sc.name + " (" + to_string(p) + "), h = " + show(h));
   return run_dict(run);
 }
 
@@ -397,6 +400,7 @@ py::dict modified_equation(const System& s, const std::string& scheme, int K, do
   s.info().validate(pv);
   modified::modified_scheme(s.info(), scheme);
   const auto q = point_or_initial(s, pv, q_in, false), v = point_or_initial(s, pv, v_in, true);
+  modified::require_finite_point(t, q, v, z);
   const auto& ms = s.modified();
   modified::ModifiedPoint r;
   {

@@ -6,6 +6,7 @@
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
+#include "geomint/modified/plan.hpp"
 
 namespace geomint::modified {
 

@@ -121,10 +121,9 @@ class Sweep {
   static bool mpi_available();  // was the build made with MPI
 
   // This process's rank as its MPI launcher announced it in the environment (OMPI_COMM_WORLD_RANK, PMIX_RANK,
-  // PMI_RANK), known before MPI starts and without starting it: 0 in a process no MPI launcher of more than one
-  // process started (its size variable, OMPI_COMM_WORLD_SIZE or PMI_SIZE, says so; a stray rank alone does not).
-  // Rank 0 speaks for a run (its errors, its interrupt line, --help) and alone writes its outputs. A launcher
-  // that names no rank: MPI is started to ask.
+  // PMI_RANK), known before MPI starts and without starting it: 0 in a process no MPI launcher started. Rank 0
+  // speaks for a run (its errors, its interrupt line, --help) and alone writes its outputs. A launcher that
+  // names no rank: MPI is started to ask.
   static int launcher_rank();
   // Rank 0's text on every rank, a collective (every rank calls it); a single process gets its own back. How
   // the ranks agree on an outcome only rank 0 can know (its output folder could be prepared).

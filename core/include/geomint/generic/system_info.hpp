@@ -199,19 +199,6 @@ void append_step(Run& run, const Sys& sys, bool contact, const StepView<double, 
   run.phi_d.push_back(phid);
   run.phi.push_back(phi);
   run.newton.push_back(updates);
-  // A kept row is what a caller reads: a non-finite one is refused here, where the step is known, so that every
-  // caller (a program's table, the Python module's arrays) fails at the same place instead of returning inf/nan.
-  const auto row_finite = [&](std::size_t first, std::size_t count) {
-    for (std::size_t i = first; i < first + count; ++i)
-      if (!std::isfinite(run.q[i]) || !std::isfinite(run.p[i]) || !std::isfinite(run.v[i])) return false;
-    return true;
-  };
-  const auto fail = [&](const char* quantity, const char* what) {
-    throw NumericalFailure(s.j, quantity, std::string(what) + " is not finite at t = " + show(s.t));
-  };
-  if (!row_finite(run.q.size() - n, n) || !std::isfinite(s.z)) fail("state", "the state (q, p, v, z)");
-  if (!std::isfinite(run.energy.back())) fail("energy", "the energy");
-  if (!std::isfinite(phi) || !std::isfinite(phid)) fail("residual", "the constraint residual");
 }
 
 template <class Sys, class G>

@@ -108,13 +108,6 @@ std::string composition_formulas_refusal(const std::string& name);
 // pendulum and the knife edge: 9x for yoshida4, 19x suzuki4, 28x yoshida6a, 72x kahanli8 at K = 4), for the
 // programs' budgets.
 double modified_cost_factor(const SystemInfo& sys, const std::string& scheme);
-// InputError naming the first non-finite component of the point (t, q, v, z) a modified equation is asked at: a
-// nan there would come back as nan with a residual of 0, which reads as an exact answer.
-void require_finite_point(double t, const std::vector<double>& q, const std::vector<double>& v, double z);
-// The programs' plan of an agreement study (modified_agreement): `starts` x T/h planned steps of the order-K
-// modified solution (Odeint at tol 1e-13 along it, about 0.5 ms a step: 1e4 cheap steps), times the scheme's
-// modified_cost_factor, added to the budget (budget.hpp).
-void plan_agreement(const SystemInfo& sys, const std::string& scheme, double h, double T, std::size_t starts = 1);
 // The slope at which a discrete solution of `scheme` approaches its order-K modified solution: the first h^k
 // beyond K whose F_k may be nonzero — K + 1 for a first-order scheme; for a symmetric one of order p (the odd F_k
 // vanish, and F_1 .. F_{p-1} too) the least even k > K, and at least p.

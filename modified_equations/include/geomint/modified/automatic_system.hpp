@@ -310,7 +310,6 @@ ModifiedSystem make_modified_system() {
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
     const auto Q = detail::to_vec<Sys::dof>(q, "q");
     const auto V = detail::to_vec<Sys::dof>(v, "v");
-    require_finite_point(t, q, v, z);
     return detail::visit_modified_scheme<Sys>(
         scheme, [&](auto g, const detail::Family* f) { return detail::point<Sys, decltype(g)>(sys, f, K, t, Q, V, z, check); });
   };
