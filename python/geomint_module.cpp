@@ -339,6 +339,8 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
   opt.at_steps = adaptive_error == "steps";
   opt.relative_window = relative_window;
   check_work_precision(sys, {pv}, opt);
+  // the study checks (and plans) again: from zero, or the plan would count twice
+  const BudgetScope again(budget);
   WorkPrecisionStudy study;
   {
     py::gil_scoped_release release;

@@ -13,7 +13,9 @@ namespace geomint {
 
 namespace {
 bool g_budget = true;
-double g_planned = 0, g_planned_seconds = 0;
+// per thread: a Python call plans on its own thread, and two threads' calls must not add up (a program plans on
+// its main thread alone)
+thread_local double g_planned = 0, g_planned_seconds = 0;
 std::string g_opt_out = "--no-budget";
 
 std::string count(double v) {
