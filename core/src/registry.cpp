@@ -202,7 +202,7 @@ void plan_run(const SystemInfo& sys, const std::string& scheme, Path path, doubl
   plan_steps(static_cast<double>(N), "the run (T/h)", step_cost(sys, scheme, path));
   const double rows = static_cast<double>(N / every + 1);
   check_memory(copies * rows * Run::bytes_per_step(sys.dof, sys.constraints),
-               "the run's " + show(rows) + " kept rows (raise " + raise + ")");
+               "the run (" + show(rows) + " kept rows; raise " + raise + ")");
 }
 
 }  // namespace geomint
