@@ -33,12 +33,12 @@ namespace {
 constexpr double deg = 180 / foucault_pi;
 
 // One step of run_foucault (the closed form of (15)/(18) with its chord energy, residual, multiplier and
-// turning-point diagnostics) in the budget's cheap steps (budget.hpp, ~36 ns): measured FOUCAULT_STEP_NS ns a step
-// (--T 36000 --h 0.005 --alpha 1e-3 --schemes la-nh contact-nh, 2 x 7.2e6 steps in FOUCAULT_SECONDS s), rounded up.
+// turning-point diagnostics) in the budget's cheap steps (budget.hpp, ~36 ns): about 0.8 us a step measured on
+// la-nh and contact-nh at the defaults, 20 cheap steps.
 constexpr double foucault_step_cost = 20;
-// The memory of one row of the TSV of an h, held while the run that made it and the figures read back: the run's
-// samples and turning points and the table read_tsv builds (measured: FOUCAULT_RSS MB at --T 2e5, FOUCAULT_ROWS rows),
-// rounded up.
+// The memory of one row of the table of an h, held while the runs that made it and the figures that read it back
+// live (the runs' samples and turning points, the table read_tsv builds): 572 MB at its peak at --T 2e5 with the
+// defaults, whose larger table has 7.0e5 rows (820 bytes a row), rounded up.
 constexpr double foucault_row_bytes = 1000;
 
 // Every how many steps a sample is kept: in double first, a sample-dt beyond T (up to 1e308) keeps one sample a
