@@ -33,9 +33,10 @@ namespace {
 constexpr double deg = 180 / foucault_pi;
 
 // One step of run_foucault (the closed form of (15)/(18) with its chord energy, residual, multiplier and
-// turning-point diagnostics) in the budget's cheap steps (budget.hpp, ~36 ns): about 0.8 us a step measured on
-// la-nh and contact-nh at the defaults, 20 cheap steps.
-constexpr double foucault_step_cost = 20;
+// turning-point diagnostics) in the budget's cheap steps (budget.hpp): 141 ns of CPU a step (2.88e7 steps of la-nh
+// and contact-nh in 4.05 s: --T 72000 --h 0.005 --alpha 1e-3) against 12 ns for the oscillator's closed-form la
+// step in the same build (integrate --system oscillator --h 0.001 --T 20000: 2e7 steps in 0.24 s), 12 cheap steps.
+constexpr double foucault_step_cost = 12;
 // The memory of one row of the table of an h, held while the runs that made it and the figures that read it back
 // live (the runs' samples and turning points, the table read_tsv builds): 572 MB at its peak at --T 2e5 with the
 // defaults, whose larger table has 7.0e5 rows (820 bytes a row), rounded up.

@@ -516,7 +516,7 @@ TEST_CASE("probe: fig2_foucault refuses work beyond the budget at once", "[probe
   CHECK(o.exit_code == 2);
   CHECK(seconds < 2);
   CHECK(o.lines() == 1);
-  CHECK(o.err.find("the runs (h x alpha x schemes x T/h): 8e+11 steps (weighted by their cost) in all exceed the "
+  CHECK(o.err.find("the runs (h x alpha x schemes x T/h): 4.8e+11 steps (weighted by their cost) in all exceed the "
                    "time budget") != std::string::npos);
   CHECK(!fs::exists(base / "out"));
   fs::remove_all(base);
