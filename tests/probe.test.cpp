@@ -80,8 +80,8 @@ struct Options {
   bool hup_ignored = false;       // started with SIGHUP ignored, as nohup does
   double seconds = 300;           // a program still running after this is killed, and the case fails
   std::string asan;               // more AddressSanitizer options (the sanitizer build)
-  // standard output: /dev/null, a pipe whose reader has gone (the first write raises SIGPIPE), or closed (`>&-`)
-  enum class Stdout { null, broken_pipe, closed } out = Stdout::null;
+  // standard output: /dev/null, or a pipe whose reader has gone (the first write raises SIGPIPE)
+  enum class Stdout { null, broken_pipe } out = Stdout::null;
 };
 
 // The signals a program takes over as interrupts, at their default action in every program the probe starts.
@@ -137,8 +137,6 @@ Started start_exe(const std::string& exe, const std::vector<std::string>& args, 
     REQUIRE(pipe(pipe_fds) == 0);
     close(pipe_fds[0]);  // no reader, ever
     posix_spawn_file_actions_adddup2(&fa, pipe_fds[1], 1);
-  } else if (opt.out == Options::Stdout::closed) {
-    posix_spawn_file_actions_addclose(&fa, 1);
   } else {
     posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
   }
@@ -455,8 +453,7 @@ TEST_CASE("probe: a fault signal sent by another process is an interrupt, cleane
   }
 }
 
-TEST_CASE("probe: a standard output whose reader has gone is an interrupt, cleaned up; a closed one is harmless",
-          "[probe]") {
+TEST_CASE("probe: a standard output whose reader has gone is an interrupt, cleaned up", "[probe]") {
   const auto base = fresh_dir("probe-stdout");
   const auto out = base / "out";
   // 21 alphas: 5.8 KB of lines on stdout, more than a pipe's buffer of stdio, so the first write reaches the pipe
@@ -477,21 +474,6 @@ TEST_CASE("probe: a standard output whose reader has gone is an interrupt, clean
   CHECK(o.last_line() == "fig2_foucault: interrupted by signal 13 (SIGPIPE); the previous outputs are unchanged");
   CHECK(temporaries(out).empty());
   CHECK(snapshot(out) == before);
-  // standard output closed (`>&-`): the run completes, and what it prints lands in no file of its own
-  const ProgramCase* c = case_of("integrate");
-  REQUIRE(c);
-  const auto out2 = base / "out2";
-  const auto args2 = plus(split(c->ok), {"--out", out2.string()});
-  REQUIRE(spawn(c->program, args2, base).exit_code == 0);
-  const auto complete = snapshot(out2);
-  fs::remove_all(out2);
-  Options closed;
-  closed.out = Options::Stdout::closed;
-  const auto k = spawn(c->program, args2, base, closed);
-  INFO("closed stdout -> exit " << k.exit_code << ": " << k.err);
-  CHECK(k.exit_code == 0);
-  CHECK(temporaries(out2).empty());
-  CHECK(snapshot(out2) == complete);
   fs::remove_all(base);
 }
 

@@ -3,7 +3,6 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstdio>
-#include <fcntl.h>
 #include <iostream>
 #include <set>
 #include <unistd.h>
@@ -120,17 +119,6 @@ void report_missing(const std::string& context, const std::string& what) {
 
 int guarded_main(const std::string& program, const std::function<int()>& body) {
   g_program = program;
-  // A standard stream closed by whoever started us (`>&-`) is opened on /dev/null: otherwise the first file we
-  // open takes its number, and what we print to it lands in that file (a table, the lock). Ascending, each open
-  // gets the lowest free number: the one it replaces.
-  for (int fd = 0; fd <= 2; ++fd)
-    if (::fcntl(fd, F_GETFD) < 0 && errno == EBADF) {
-      const int d = ::open("/dev/null", fd == 0 ? O_RDONLY : O_WRONLY);
-      if (d >= 0 && d != fd) {
-        ::dup2(d, fd);
-        ::close(d);
-      }
-    }
   // Rank 0 speaks for the run. An input error is met identically by every rank (each validates the same command
   // line), so only rank 0 reports it: one line in all under mpiexec. Any other error may be one rank's own, so
   // the rank that meets it reports it, named. (A memory check refused on one rank's machine alone is the one
