@@ -54,12 +54,7 @@ int main(int argc, char** argv) {
     check_reference(sys, ref_kind, tol);
     const auto hs = halving_sequence(h_max, h_min);
     const double h_ref = reference_step(sys, hs);
-    double cost = 0;  // of one step of every scheme, in cheap steps
-    for (const auto& s : schemes) cost += step_cost(sys, s, path);
-    for (const auto& pv : combos)
-      for (double h : hs)
-        plan_steps(static_cast<double>(step_count(h, sys.horizon(pv))), "the sweep (combinations x schemes x T/h)",
-                   cost);
+    plan_convergence(sys, combos, schemes, hs, path);
     for (const auto& pv : combos) check_reference_memory(sys, ref_kind, step_count(h_ref, sys.horizon(pv)));
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     const std::string stem = sys.name + "_convergence";

@@ -66,17 +66,11 @@ int main(int argc, char** argv) {
     spec.runs = runs;
     spec.seed = seed;
     require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
-    require(runs >= 1 && runs <= 10000000, "runs must be in [1, 1e7], got " + std::to_string(runs));
-    sys.validate(spec.base);
+    plan_ensemble(sys, spec);
     const SchemeInfo& sc = sys.scheme(spec.scheme);
     const double T = sys.horizon(spec.base);
     const long N = step_count(h, T);
     const bool closed_form = spec.path == Path::fast && !sc.fast_path.empty();
-    plan_steps(static_cast<double>(runs) * static_cast<double>(N), "the ensemble (runs x T/h)",
-               step_cost(sys, spec.scheme, spec.path));
-    check_memory(static_cast<double>(runs) * ensemble_run_bytes(sys.dof, spec.perturb.size()),
-                 "the ensemble's " + std::to_string(runs) + " runs (lower --runs)");
-    // every run's own parameters last: validating 1e7 of them takes seconds, an over-budget plan none
     validate_ensemble(sys, spec);
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
 

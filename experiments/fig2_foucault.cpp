@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <map>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/scene_options.hpp"
 #include "geomint/error.hpp"
@@ -30,6 +31,23 @@ using namespace geomint;
 namespace {
 
 constexpr double deg = 180 / foucault_pi;
+
+// One step of run_foucault (the closed form of (15)/(18) with its chord energy, residual, multiplier and
+// turning-point diagnostics) in the budget's cheap steps (budget.hpp): 141 ns of CPU a step (2.88e7 steps of la-nh
+// and contact-nh in 4.05 s: --T 72000 --h 0.005 --alpha 1e-3) against 12 ns for the oscillator's closed-form la
+// step in the same build (integrate --system oscillator --h 0.001 --T 20000: 2e7 steps in 0.24 s), 12 cheap steps.
+constexpr double foucault_step_cost = 12;
+// The memory of one row of the table of an h, held while the runs that made it and the figures that read it back
+// live (the runs' samples and turning points, the table read_tsv builds): 572 MB at its peak at --T 2e5 with the
+// defaults, whose larger table has 7.0e5 rows (820 bytes a row), rounded up.
+constexpr double foucault_row_bytes = 1000;
+
+// Every how many steps a sample is kept: in double first, a sample-dt beyond T (up to 1e308) keeps one sample a
+// run (and the turning points), not every step as a long overflowing to its minimum would.
+long sample_every(double sample_dt, double h, long N) {
+  const double per = std::round(sample_dt / h);
+  return per >= static_cast<double>(N) ? std::max(1L, N) : std::max(1L, static_cast<long>(per));
+}
 
 std::string trajectory_style(const std::string& scheme) {
   std::string st = plots::style_for(scheme, "lines");
@@ -72,16 +90,30 @@ int main(int argc, char** argv) {
     for (const auto& n : names)  // a scheme with a closed form on the system (la, contact; la-nh, contact-nh)
       systems::visit_foucault_system(system, [&](auto sys) { generic::visit_closed_form<decltype(sys)>(n, [](auto) {}); });
     require_positive(sample_dt, "sample-dt");
+    // The plan, as every program's (budget.hpp): the steps of every h, alpha and scheme against the time budget,
+    // and the rows of the largest h's table against the memory available.
+    {
+      // turning points of a run: two a period of the pendulum (2 pi / sqrt(g/l)), damping aside
+      const double turns = base.T * std::sqrt(base.w2()) / foucault_pi + 1;
+      const double A = static_cast<double>(alphas.size()), S = static_cast<double>(names.size());
+      double steps = 0, rows = 0;
+      for (double h : hs) {
+        const long N = step_count(h, base.T);
+        const double samples = static_cast<double>(N / sample_every(sample_dt, h, N) + 1);
+        steps += static_cast<double>(N) * A * S;
+        rows = std::max(rows, A * (samples + S * (samples + turns)));
+      }
+      plan_steps(steps, "the runs (h x alpha x schemes x T/h)", foucault_step_cost);
+      check_memory(rows * foucault_row_bytes,
+                   "the " + show(rows) + " rows of one h's table (raise --sample-dt or lower --T)");
+    }
     const auto dir = prepare_output_dir(cli.out);
 
     const double s = base.s();
     for (std::size_t ih = 0; ih < hs.size(); ++ih) {
       const double h = hs[ih];
       const long N = step_count(h, base.T);
-      // in double first: a sample-dt beyond T (up to 1e308) keeps one sample a run (and the turning points), not every
-      // step as a long overflowing to its minimum would
-      const double per = std::round(sample_dt / h);
-      const long every = per >= static_cast<double>(N) ? std::max(1L, N) : std::max(1L, static_cast<long>(per));
+      const long every = sample_every(sample_dt, h, N);
       const std::string stem = ih == 0 ? stem0 : stem0 + "_h" + format_number(h);
       Params params{{"h", format_number(h)},
                           {"T", format_number(base.T)},

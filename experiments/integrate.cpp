@@ -13,6 +13,7 @@
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/system_cli.hpp"
+#include "geomint/run_checks.hpp"
 #include "geomint/step_cost.hpp"
 
 using namespace geomint;
@@ -35,15 +36,15 @@ int main(int argc, char** argv) {
     const SchemeInfo& sc = sys.scheme(scheme);
     const Path path = parse_path(path_name);
     require_positive(h, "h");
-    require(every >= 1, "every must be a positive integer, got " + std::to_string(every));
     const double T = sys.horizon(pv);
+    plan_run(sys, sc.name, path, h, T, every);
     const long N = step_count(h, T);
-    plan_steps(static_cast<double>(N), "the run (T/h)", step_cost(sys, sc.name, path));
     require(N / every <= 2000000, "the table would have " + std::to_string(N / every) +
                                       " rows (limit 2e6): raise --every");
     const auto dir = prepare_output_dir(cli.out);
 
     const Run run = sys.run(pv, scheme, h, path, every);
+    require_finite_run(run, "system " + sys.name + ", scheme " + sc.name + " (" + to_string(path) + "), h = " + show(h));
     const int n = run.n, m = run.m;
     Params params = sysopt.header();
     params.insert(params.end(), {{"scheme", sc.name + ": " + sc.description()},

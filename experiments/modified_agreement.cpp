@@ -39,6 +39,7 @@
 #include <tuple>
 
 #include "geomint/budget.hpp"
+#include "geomint/modified/plan.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -126,16 +127,11 @@ int main(int argc, char** argv) {
     };
     for (std::size_t ki = 0; ki < orders.size(); ++ki)
       for (double h : steps_of(ki))
-        // a planned step costs ~0.5 ms (the order-K modified equation solved by Odeint at tol 1e-13 along it;
-        // measured: 2.35 s of CPU per 4410 planned steps, T = 2 -> 4 at the defaults): 1e4 cheap steps, times a
-        // composition's cost factor
         for (std::size_t si = 0; si < systems.size(); ++si)
-          for (const auto& pv : combos[si]) {
-            double cost = 0;
-            for (const auto& x : schemes) cost += modified_cost_factor(find_system(systems[si]), x);
-            plan_steps(cost * static_cast<double>(starts.size() * step_count(h, param_value(pv, find_system(systems[si]), "T"))),
-                       "the sweep (systems x sweep points x schemes x starts x T/h per order)", 1e4);
-          }
+          for (const auto& pv : combos[si])
+            for (const auto& x : schemes)
+              plan_agreement(find_system(systems[si]), x, h, param_value(pv, find_system(systems[si]), "T"),
+                             starts.size());
     const auto dir = prepare_output_dir(cli.out, OtherRanks::compute);
     // one system: its name leads the files' (as every single-system study's), so a preset beside the default run
     // keeps its own files

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
@@ -65,7 +66,11 @@ int main(int argc, char** argv) {
     const auto dir = prepare_output_dir(cli.out);
 
     std::fprintf(stderr, "work_precision: %s ...\n", sys.name.c_str());
-    const WorkPrecisionStudy study = work_precision_study(sys, combos, opt);
+    // the study checks (and plans) again: from zero, or a plan within the budget would count twice and be refused
+    const WorkPrecisionStudy study = [&] {
+      const BudgetScope again(budget_enabled(), "--no-budget");
+      return work_precision_study(sys, combos, opt);
+    }();
     const auto& pts = study.points;
     Params params = sysopt.header();
     params.insert(params.end(), {{"h", format_list(opt.hs)}, {"tol", format_list(opt.tols)},

@@ -27,8 +27,11 @@
 #include "geomint/modified/all_orders.hpp"
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/modified/formula_modified.hpp"
+#include "geomint/modified/plan.hpp"
 #include "geomint/modified/surrogate.hpp"
 #include "geomint/registry.hpp"
+#include "geomint/run_checks.hpp"
+#include "geomint/step_cost.hpp"
 #include "geomint/study.hpp"
 #include "geomint/sweep.hpp"
 #include "geomint/work_precision.hpp"
@@ -139,7 +142,9 @@ py::dict run_dict(const Run& run) {
 // Many runs from perturbed parameters (generic_ensemble.hpp): run k's perturbed values, its state at T (NaN where
 // it failed) and its failure message ("" where it reached T). Run k has the bits of integrate() from those values.
 py::dict ensemble(const System& s, const std::string& scheme, const py::dict& perturb, long runs, double h,
-                  const py::dict& params, const std::string& path, unsigned long long seed, unsigned threads) {
+                  const py::dict& params, const std::string& path, unsigned long long seed, unsigned threads,
+                  bool budget) {
+  const BudgetScope scope(budget);
   const SystemInfo& sys = s.info();
   EnsembleSpec spec;
   spec.base = param_values(params);
@@ -150,9 +155,8 @@ py::dict ensemble(const System& s, const std::string& scheme, const py::dict& pe
   spec.runs = runs;
   spec.seed = seed;
   require(threads <= 256, "threads must be in [0, 256] (0: every core)");
+  plan_ensemble(sys, spec, "runs");
   validate_ensemble(sys, spec);
-  check_memory(static_cast<double>(runs) * ensemble_run_bytes(sys.dof, spec.perturb.size()),
-               "the ensemble's " + std::to_string(runs) + " runs (lower runs)");
   std::vector<EnsembleRun> out;
   {
     py::gil_scoped_release release;
@@ -201,18 +205,22 @@ ParamValues with_step(const System& s, ParamValues pv, double h) {
 }
 
 py::dict integrate(const System& s, const std::string& scheme, double h, const py::dict& params, const std::string& path,
-                   long every) {
+                   long every, bool budget) {
+  const BudgetScope scope(budget);
   const SystemInfo& sys = s.info();
   const ParamValues pv = with_step(s, param_values(params), h);
-  sys.scheme(scheme);
+  const SchemeInfo& sc = sys.scheme(scheme);
   require_positive(h, "h");
   require(every >= 1, "every must be a positive integer, got " + std::to_string(every));
   const Path p = parse_path(path);
+  // the run and its numpy copy are held together while the arrays are made
+  plan_run(sys, sc.name, p, h, sys.horizon(pv), every, 2, "every");
   Run run;
   {
     py::gil_scoped_release release;
     run = sys.run(pv, scheme, h, p, every);
   }
+  require_finite_run(run, "system " + sys.name + ", scheme " + sc.name + " (" + to_string(p) + "), h = " + show(h));
   return run_dict(run);
 }
 
@@ -247,7 +255,8 @@ std::vector<std::string> scheme_list(const SystemInfo& sys, const std::vector<st
 // system declares: the convergence program's study (convergence_study), as arrays.
 py::dict convergence(const System& s, const std::vector<std::string>& schemes_asked, double h_max, double h_min,
                      const py::dict& params, const std::string& path, const std::string& ref_name, double tol,
-                     const std::string& norm) {
+                     const std::string& norm, bool budget) {
+  const BudgetScope scope(budget);
   const SystemInfo& sys = s.info();
   const ParamValues pv = param_values(params);
   const auto schemes = scheme_list(sys, schemes_asked);
@@ -258,6 +267,7 @@ py::dict convergence(const System& s, const std::vector<std::string>& schemes_as
   require_positive(h_max, "h_max");
   require_positive(h_min, "h_min");
   const auto hs = halving_sequence(h_max, h_min);
+  plan_convergence(sys, {pv}, schemes, hs, p);
   ConvergenceStudy study;
   {
     py::gil_scoped_release release;
@@ -309,7 +319,9 @@ py::dict convergence(const System& s, const std::vector<std::string>& schemes_as
 py::dict work_precision(const System& s, const std::vector<std::string>& schemes_asked, const std::vector<double>& hs,
                         const py::dict& params, const std::string& path, int reps, const std::string& ref_name, double tol,
                         const std::vector<std::string>& baselines, const std::vector<double>& tols,
-                        const std::string& equations, const std::string& adaptive_error, double relative_window) {
+                        const std::string& equations, const std::string& adaptive_error, double relative_window,
+                        bool budget) {
+  const BudgetScope scope(budget);  // check_work_precision plans the work
   const SystemInfo& sys = s.info();
   const ParamValues pv = param_values(params);
   WorkPrecisionOptions opt;
@@ -328,6 +340,8 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
   opt.at_steps = adaptive_error == "steps";
   opt.relative_window = relative_window;
   check_work_precision(sys, {pv}, opt);
+  // the study checks (and plans) again: from zero, or the plan would count twice
+  const BudgetScope again(budget);
   WorkPrecisionStudy study;
   {
     py::gil_scoped_release release;
@@ -389,6 +403,7 @@ py::dict modified_equation(const System& s, const std::string& scheme, int K, do
   s.info().validate(pv);
   modified::modified_scheme(s.info(), scheme);
   const auto q = point_or_initial(s, pv, q_in, false), v = point_or_initial(s, pv, v_in, true);
+  modified::require_finite_point(t, q, v, z);
   const auto& ms = s.modified();
   modified::ModifiedPoint r;
   {
@@ -462,11 +477,13 @@ py::dict all_orders(const System& s, const std::string& scheme, double h, const 
 }
 
 py::dict modified_agreement(const System& s, const std::string& scheme, int K, double h, double T, double tol,
-                            const py::dict& params, const std::string& start) {
+                            const py::dict& params, const std::string& start, bool budget) {
+  const BudgetScope scope(budget);
   const ParamValues pv = param_values(params);
   const auto st = modified::parse_agreement_start(start);
   modified::modified_scheme(s.info(), scheme);
   if (!(T > 0)) T = s.info().horizon(pv);
+  modified::plan_agreement(s.info(), scheme, h, T);
   const auto& ms = s.modified();
   modified::ModifiedAgreement a;
   {
@@ -714,11 +731,16 @@ PYBIND11_MODULE(_geomint, m) {
           "warnings", [](const System& s, const py::dict& params) { return s.warnings(param_values(params)); },
           py::arg("params") = py::dict(), "a formula system's Herglotz form against its force (empty when they agree)")
       .def("integrate", &integrate, py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(), py::arg("path") = "fast",
-           py::arg("every") = 1,
+           py::arg("every") = 1, py::arg("budget") = true,
            "N = T/h steps of `scheme`, every `every`-th kept: {j, t, q, p, v, z, lambda, energy, phi_d, phi, newton} "
-           "as arrays (q, p, v: rows x n; lambda: rows x m), and steps, newton_mean, max_phi_d")
+           "as arrays (q, p, v: rows x n; lambda: rows x m), and steps, newton_mean, max_phi_d; NumericalFailure "
+           "(naming the step and t) where a kept state, energy or residual is not finite; budget=True refuses at "
+           "once a run whose planned work exceeds the time budget (about an hour of steps; budget=False runs it "
+           "anyway) or whose kept rows exceed the memory available (raise every)")
       .def("ensemble", &ensemble, py::arg("scheme"), py::arg("perturb"), py::arg("runs") = 1000, py::arg("h") = 0.1,
            py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("seed") = 1, py::arg("threads") = 0,
+           py::arg("budget") = true,
+           "budget=True (budget=False: run anyway) refuses at once runs x T/h steps beyond the time budget; "
            "runs from perturbed parameters, perturb = {name: spread} (run k: p + spread u, u uniform in [-1, 1) from "
            "(seed, k)), on `threads` threads (0: every core): {perturbed, values (runs x P), q, v (runs x n), z, "
            "energy0, energy, max_phi_d, newton_mean (NaN where a run failed), failure (messages, '' where it reached "
@@ -727,15 +749,17 @@ PYBIND11_MODULE(_geomint, m) {
            py::arg("params") = py::dict(), "the reference solution on t_j = j h (closed form, or Boost.Odeint)")
       .def("convergence", &convergence, py::arg("schemes") = std::vector<std::string>{}, py::arg("h_max") = 0.1,
            py::arg("h_min") = 0.003, py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reference") = "auto",
-           py::arg("tol") = 1e-13, py::arg("norm") = "max",
+           py::arg("tol") = 1e-13, py::arg("norm") = "max", py::arg("budget") = true,
            "max_j |q_j - q_ref(t_j)| against h (norm 'max' or '2'), observed, least-squares and asymptotic orders, and "
-           "the system's measures {name: {scheme: array}}")
+           "the system's measures {name: {scheme: array}}; budget=True (budget=False: run anyway) refuses at once a "
+           "sweep beyond the time budget. Under mpiexec the runs are shared by the ranks and rank 0 alone gets the "
+           "results: the other ranks' dicts have empty error, orders and measures")
       .def("work_precision", &work_precision, py::arg("schemes") = std::vector<std::string>{}, py::arg("h"),
            py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reps") = 3, py::arg("reference") = "auto",
            py::arg("tol") = 1e-13, py::arg("baselines") = std::vector<std::string>{},
            py::arg("tols") = std::vector<double>{}, py::arg("equations") = "ad", py::arg("adaptive_error") = "output",
-           py::arg("relative_window") = 0.0,
-           "error and median CPU seconds of one run, per method: the schemes against h, the baselines (odeint-rk4 over h; "
+           py::arg("relative_window") = 0.0, py::arg("budget") = true,
+           "budget=True (budget=False: run anyway) refuses at once a sweep beyond the time budget; error and median CPU seconds of one run, per method: the schemes against h, the baselines (odeint-rk4 over h; "
            "odeint-dopri5, odeint-bulirsch-stoer, gsl-rk8pd over tols) as the work_precision program runs them; with "
            "relative_window > 0 also relative_error, the error relative to the solution's size over that window as "
            "long_horizon measures it")
@@ -747,7 +771,9 @@ PYBIND11_MODULE(_geomint, m) {
            py::arg("params") = py::dict(), "the modified equation as formulas (text, Mathematica, LaTeX), every parameter a symbol")
       .def("modified_agreement", &modified_agreement, py::arg("scheme"), py::arg("order"), py::arg("h"), py::arg("T") = 0.0,
            py::arg("tol") = 1e-13, py::arg("params") = py::dict(), py::arg("start") = "shooting",
-           "step-by-step agreement of the discrete solution with the order-K modified solution, started by shooting "
+           py::arg("budget") = true,
+           "budget=True (budget=False: run anyway) refuses at once T/h steps of the modified solution beyond the time "
+           "budget; step-by-step agreement of the discrete solution with the order-K modified solution, started by shooting "
            "(q~(h) = q_1) or naive (v~(0) = v_0)")
       .def("all_orders", &all_orders, py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(),
            py::arg("path") = "fast",

@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
@@ -79,10 +80,14 @@ struct Options {
   bool hup_ignored = false;       // started with SIGHUP ignored, as nohup does
   double seconds = 300;           // a program still running after this is killed, and the case fails
   std::string asan;               // more AddressSanitizer options (the sanitizer build)
+  // standard output: /dev/null, or a pipe whose reader has gone (the first write raises SIGPIPE)
+  enum class Stdout { null, broken_pipe } out = Stdout::null;
 };
 
 // The signals a program takes over as interrupts, at their default action in every program the probe starts.
 const int interrupt_signals[] = {SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGUSR1, SIGUSR2, SIGALRM, SIGXFSZ, SIGXCPU, SIGPWR};
+// The signals of a fault: interrupts too when another process sends them (kill: si_code SI_USER).
+const int fault_signals[] = {SIGABRT, SIGSEGV, SIGBUS, SIGSYS, SIGTRAP};
 
 std::vector<std::string> environment(const Options& opt) {
   std::vector<std::string> envs;
@@ -127,7 +132,14 @@ Started start_exe(const std::string& exe, const std::vector<std::string>& args, 
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addchdir_np(&fa, cwd.c_str());
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  int pipe_fds[2] = {-1, -1};
+  if (opt.out == Options::Stdout::broken_pipe) {
+    REQUIRE(pipe(pipe_fds) == 0);
+    close(pipe_fds[0]);  // no reader, ever
+    posix_spawn_file_actions_adddup2(&fa, pipe_fds[1], 1);
+  } else {
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  }
   posix_spawn_file_actions_addopen(&fa, 2, s.errfile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
@@ -136,6 +148,8 @@ Started start_exe(const std::string& exe, const std::vector<std::string>& args, 
   sigemptyset(&none);
   for (int sig : interrupt_signals)
     if (!(opt.hup_ignored && sig == SIGHUP)) sigaddset(&def, sig);
+  for (int sig : fault_signals) sigaddset(&def, sig);
+  sigaddset(&def, SIGPIPE);
   posix_spawnattr_setsigdefault(&attr, &def);
   posix_spawnattr_setsigmask(&attr, &none);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
@@ -144,6 +158,7 @@ Started start_exe(const std::string& exe, const std::vector<std::string>& args, 
   if (opt.hup_ignored) sigaction(SIGHUP, &ignore, &old);  // inherited across exec, as nohup does it
   const int rc = posix_spawn(&s.pid, exe.c_str(), &fa, &attr, argv.data(), envp.data());
   if (opt.hup_ignored) sigaction(SIGHUP, &old, nullptr);
+  if (pipe_fds[1] >= 0) close(pipe_fds[1]);
   posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&attr);
   REQUIRE(rc == 0);
@@ -412,6 +427,92 @@ TEST_CASE("probe: every terminating signal mid-run leaves the old outputs and no
     CHECK(!fs::exists(base / "new"));
     fs::remove_all(base);
   }
+}
+
+TEST_CASE("probe: a fault signal sent by another process is an interrupt, cleaned up, with its line", "[probe]") {
+  // systemd's watchdog sends SIGABRT; a user's kill -SEGV is no fault of ours: both used to leave the staging
+  // folder and the lock behind, with no line
+  for (const char* program : {"integrate", "convergence"}) {
+    const ProgramCase* c = case_of(program);
+    REQUIRE(c);
+    const auto base = fresh_dir("probe-fault-signal");
+    const auto out = base / "out";
+    REQUIRE(spawn(c->program, plus(split(c->ok), {"--out", out.string()}), base).exit_code == 0);
+    const auto before = snapshot(out);
+    for (int sig : fault_signals) {
+      const auto o = interrupted(c->program, plus(split(c->ok), {"--out", out.string()}), base, sig);
+      INFO(c->program << " signal " << sig << " -> exit " << o.exit_code << " signal " << o.signal << ": " << o.err);
+      CHECK(o.stopped);
+      CHECK(o.exit_code == 128 + sig);
+      CHECK(o.last_line().find("interrupted by signal " + std::to_string(sig) + " (SIG") != std::string::npos);
+      CHECK(o.last_line().find("the previous outputs are unchanged") != std::string::npos);
+      CHECK(temporaries(out).empty());
+      CHECK(snapshot(out) == before);
+    }
+    fs::remove_all(base);
+  }
+}
+
+TEST_CASE("probe: a standard output whose reader has gone is an interrupt, cleaned up", "[probe]") {
+  const auto base = fresh_dir("probe-stdout");
+  const auto out = base / "out";
+  // 21 alphas: 5.8 KB of lines on stdout, more than a pipe's buffer of stdio, so the first write reaches the pipe
+  // mid-run (a program that prints less writes only as it exits, its outputs already in place)
+  std::vector<std::string> args{"--h", "0.1", "--T", "36", "--alpha"};
+  for (const char* a : {"1e-1", "1e-2", "1e-3", "1e-4", "2e-4", "3e-4", "4e-4", "5e-4", "6e-4", "7e-4", "8e-4",
+                        "9e-4", "1e-5", "2e-5", "3e-5", "4e-5", "5e-5", "6e-5", "7e-5", "8e-5", "9e-5"})
+    args.push_back(a);
+  args = plus(args, {"--out", out.string()});
+  REQUIRE(spawn("fig2_foucault", args, base).exit_code == 0);
+  const auto before = snapshot(out);
+  // the pipe's reader gone before the first write: SIGPIPE (13) ends the run as any interrupt
+  Options broken;
+  broken.out = Options::Stdout::broken_pipe;
+  const auto o = spawn("fig2_foucault", args, base, broken);
+  INFO("broken pipe -> exit " << o.exit_code << " signal " << o.signal << ": " << o.err);
+  CHECK(o.exit_code == 128 + SIGPIPE);
+  CHECK(o.last_line() == "fig2_foucault: interrupted by signal 13 (SIGPIPE); the previous outputs are unchanged");
+  CHECK(temporaries(out).empty());
+  CHECK(snapshot(out) == before);
+  fs::remove_all(base);
+}
+
+TEST_CASE("probe: a stray MPI rank variable without a launcher changes nothing", "[probe]") {
+  // a script on rank 1 of a job inherits its rank; run alone, the program is rank 0 of one process and writes
+  for (const char* var : {"PMI_RANK=1", "OMPI_COMM_WORLD_RANK=1"})
+    for (const char* program : {"integrate", "ensemble"}) {
+      const ProgramCase* c = case_of(program);
+      REQUIRE(c);
+      const auto base = fresh_dir("probe-stray-rank");
+      const auto out = base / "out";
+      Options opt;
+      opt.env = {var};
+      const auto o = spawn(c->program, plus(split(c->ok), {"--out", out.string()}), base, opt);
+      INFO(program << " with " << var << " -> exit " << o.exit_code << ": " << o.err);
+      CHECK(o.exit_code == 0);
+      CHECK(o.err.find("rank") == std::string::npos);
+      bool table_written = false;
+      if (fs::exists(out))
+        for (const auto& e : fs::directory_iterator(out)) table_written |= e.path().extension() == ".tsv";
+      CHECK(table_written);
+      fs::remove_all(base);
+    }
+}
+
+TEST_CASE("probe: fig2_foucault refuses work beyond the budget at once", "[probe]") {
+  // 2 alphas x 2 schemes x 1e10 steps at T = 1e9, h = 0.1: about 64 hours; accepted before its plan
+  const auto base = fresh_dir("probe-fig2-budget");
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto o = spawn("fig2_foucault", {"--T", "1e9", "--h", "0.1", "--out", (base / "out").string()}, base);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  INFO("exit " << o.exit_code << " after " << seconds << " s: " << o.err);
+  CHECK(o.exit_code == 2);
+  CHECK(seconds < 2);
+  CHECK(o.lines() == 1);
+  CHECK(o.err.find("the runs (h x alpha x schemes x T/h): 4.8e+11 steps (weighted by their cost) in all exceed the "
+                   "time budget") != std::string::npos);
+  CHECK(!fs::exists(base / "out"));
+  fs::remove_all(base);
 }
 
 TEST_CASE("probe: a blow-up inside a sweep is a missing value, and the sweep goes on", "[probe]") {

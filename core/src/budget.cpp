@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "geomint/error.hpp"
 
@@ -12,7 +13,10 @@ namespace geomint {
 
 namespace {
 bool g_budget = true;
-double g_planned = 0;
+// per thread: a Python call plans on its own thread, and two threads' calls must not add up (a program plans on
+// its main thread alone)
+thread_local double g_planned = 0, g_planned_seconds = 0;
+std::string g_opt_out = "--no-budget";
 
 std::string count(double v) {
   char buf[40];
@@ -23,6 +27,22 @@ std::string count(double v) {
 
 void set_budget_enabled(bool enabled) { g_budget = enabled; }
 bool budget_enabled() { return g_budget; }
+void set_budget_opt_out(const std::string& how) { g_opt_out = how; }
+
+BudgetScope::BudgetScope(bool enabled, std::string opt_out)
+    : enabled_(g_budget), steps_(g_planned), seconds_(g_planned_seconds), opt_out_(g_opt_out) {
+  g_budget = enabled;
+  g_planned = 0;
+  g_planned_seconds = 0;
+  g_opt_out = std::move(opt_out);
+}
+
+BudgetScope::~BudgetScope() {
+  g_budget = enabled_;
+  g_planned = steps_;
+  g_planned_seconds = seconds_;
+  g_opt_out = opt_out_;
+}
 
 void check_steps(double steps, const std::string& what) {
   require(std::isfinite(steps) && steps < static_cast<double>(LONG_MAX),
@@ -36,7 +56,7 @@ void plan_steps(double steps, const std::string& what, double cost) {
   if (g_budget)
     require(g_planned <= step_budget,
             what + ": " + count(g_planned) + (cost == 1 ? " steps" : " steps (weighted by their cost)") +
-                " in all exceed the time budget of " + count(step_budget) + " steps (--no-budget to run it anyway)");
+                " in all exceed the time budget of " + count(step_budget) + " steps (" + g_opt_out + " to run it anyway)");
 }
 
 double available_memory() {
@@ -53,11 +73,11 @@ double available_memory() {
 }
 
 void plan_seconds(double seconds, const std::string& what) {
-  static double planned = 0;
-  planned += seconds;
+  g_planned_seconds += seconds;
   if (g_budget)
-    require(planned <= seconds_budget, what + ": " + count(planned) + " s in all exceed the time budget of " +
-                                           count(seconds_budget) + " s (--no-budget to run it anyway)");
+    require(g_planned_seconds <= seconds_budget, what + ": " + count(g_planned_seconds) +
+                                                     " s in all exceed the time budget of " + count(seconds_budget) +
+                                                     " s (" + g_opt_out + " to run it anyway)");
 }
 
 void check_memory(double bytes, const std::string& what) {

@@ -97,6 +97,12 @@ const char* signal_name(int sig) {
     case SIGIO: return "SIGIO";
     case SIGPWR: return "SIGPWR";
     case SIGSTKFLT: return "SIGSTKFLT";
+    case SIGPIPE: return "SIGPIPE";
+    case SIGABRT: return "SIGABRT";
+    case SIGSEGV: return "SIGSEGV";
+    case SIGBUS: return "SIGBUS";
+    case SIGSYS: return "SIGSYS";
+    case SIGTRAP: return "SIGTRAP";
     default: return "a real-time signal";
   }
 }
@@ -146,6 +152,23 @@ extern "C" void geomint_on_interrupt(int sig) {
                                : "); nothing was written\n");
   [[maybe_unused]] const ssize_t w = ::write(2, line, n);
   ::_exit(128 + sig);
+}
+
+// The signals of a fault (SIGABRT, SIGSEGV, ...) are interrupts only when another process sent them (kill,
+// sigqueue: si_code SI_USER, SI_QUEUE; systemd's watchdog sends SIGABRT): then the run is cut short like any
+// other. A real fault (the kernel's si_code, or abort() and raise() from within, SI_TKILL) keeps its default
+// action, a core dump where they are enabled: the handler steps aside and the signal is delivered again.
+extern "C" void geomint_on_fault(int sig, siginfo_t* info, void*) {
+  if (info && (info->si_code == SI_USER || info->si_code == SI_QUEUE)) {
+    geomint_on_interrupt(sig);
+    return;
+  }
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  ::sigaction(sig, &dfl, nullptr);
+  // a fault the kernel raised recurs when the faulting instruction runs again; one raised from within, by
+  // abort() or raise(), is raised again here (delivered when the handler returns)
+  if (!info || info->si_code <= 0) ::raise(sig);
 }
 
 // Interrupts held on this thread, and deferred on the others, for its lifetime: what must not be cut short.
@@ -426,25 +449,43 @@ std::string make_staging(int target_fd, const fs::path& target) {
 void handle_interrupts() {
   static std::once_flag once;
   std::call_once(once, [] {
-    std::vector<int> sigs{SIGHUP,    SIGINT,  SIGQUIT, SIGTERM, SIGUSR1, SIGUSR2,  SIGALRM,
-                          SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ, SIGIO,   SIGPWR,   SIGSTKFLT};
+    // SIGPIPE too: a standard output closed by its reader ends the run like any interrupt, cleaned up (gnuplot is
+    // written with MSG_NOSIGNAL, figure.cpp, so only our own output raises it)
+    std::vector<int> sigs{SIGHUP,    SIGINT,  SIGQUIT, SIGTERM, SIGUSR1, SIGUSR2,  SIGALRM,  SIGVTALRM,
+                          SIGPROF,   SIGXCPU, SIGXFSZ, SIGIO,   SIGPWR,  SIGSTKFLT, SIGPIPE};
+    const std::vector<int> faults{SIGABRT, SIGSEGV, SIGBUS, SIGSYS, SIGTRAP};
     for (int r = SIGRTMIN; r <= SIGRTMAX; ++r) sigs.push_back(r);
     sigemptyset(&g_interrupts);
-    std::vector<int> taken;
-    for (int s : sigs) {
+    std::vector<int> taken, taken_faults;
+    // Only a signal at its default (termination) is taken over: one ignored by whoever started us (nohup, a
+    // background job) stays ignored, and one a library handles (a profiler's SIGPROF, a sanitizer's SIGSEGV)
+    // stays its own.
+    auto at_default = [](int s) {
       struct sigaction old {};
-      // Only a signal at its default (termination) is taken over: one ignored by whoever started us (nohup,
-      // a background job) stays ignored, and one a library handles (a profiler's SIGPROF) stays its own.
-      if (::sigaction(s, nullptr, &old) == 0 && !(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_DFL) {
+      return ::sigaction(s, nullptr, &old) == 0 && !(old.sa_flags & SA_SIGINFO) && old.sa_handler == SIG_DFL;
+    };
+    for (int s : sigs)
+      if (at_default(s)) {
         taken.push_back(s);
         sigaddset(&g_interrupts, s);
       }
-    }
+    // A fault blocked while the lock or a commit is held is deferred like an interrupt when sent; one the
+    // kernel raises meanwhile takes its default action at once (a blocked synchronous fault is not deferred).
+    for (int s : faults)
+      if (at_default(s)) {
+        taken_faults.push_back(s);
+        sigaddset(&g_interrupts, s);
+      }
     struct sigaction sa {};
     sa.sa_handler = geomint_on_interrupt;
     sa.sa_mask = g_interrupts;  // one interrupt at a time on a thread
     sa.sa_flags = 0;
     for (int s : taken) ::sigaction(s, &sa, nullptr);
+    struct sigaction fa {};
+    fa.sa_sigaction = geomint_on_fault;
+    fa.sa_mask = g_interrupts;
+    fa.sa_flags = SA_SIGINFO;
+    for (int s : taken_faults) ::sigaction(s, &fa, nullptr);
   });
 }
 

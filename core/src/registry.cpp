@@ -173,3 +173,36 @@ double step_cost(const SystemInfo& sys, const std::string& scheme, Path path) {
 }
 
 }  // namespace geomint
+
+#include "geomint/run_checks.hpp"
+
+namespace geomint {
+
+void require_finite_run(const Run& run, const std::string& context) {
+  const auto n = static_cast<std::size_t>(run.n);
+  for (std::size_t r = 0; r < run.t.size(); ++r) {
+    const char* what = nullptr;
+    const char* quantity = nullptr;
+    for (std::size_t i = r * n; i < (r + 1) * n && !what; ++i)
+      if (!std::isfinite(run.q[i]) || !std::isfinite(run.p[i]) || !std::isfinite(run.v[i])) what = "the state (q, p, v, z)";
+    if (!what && !std::isfinite(run.z[r])) what = "the state (q, p, v, z)";
+    if (what) quantity = "state";
+    if (!what && !std::isfinite(run.energy[r])) what = "the energy", quantity = "energy";
+    if (!what && (!std::isfinite(run.phi[r]) || !std::isfinite(run.phi_d[r])))
+      what = "the constraint residual", quantity = "residual";
+    if (what)
+      throw NumericalFailure(run.j[r], quantity, context + ": " + what + " is not finite at t = " + show(run.t[r]));
+  }
+}
+
+void plan_run(const SystemInfo& sys, const std::string& scheme, Path path, double h, double T, long every,
+              double copies, const std::string& raise) {
+  require(every >= 1, "every must be a positive integer, got " + std::to_string(every));
+  const long N = step_count(h, T);
+  plan_steps(static_cast<double>(N), "the run (T/h)", step_cost(sys, scheme, path));
+  const double rows = static_cast<double>(N / every + 1);
+  check_memory(copies * rows * Run::bytes_per_step(sys.dof, sys.constraints),
+               "the run (" + show(rows) + " kept rows; raise " + raise + ")");
+}
+
+}  // namespace geomint

@@ -15,12 +15,23 @@ namespace geomint {
 
 namespace {
 
-// Started by an MPI launcher? (Open MPI's mpirun, MPICH/Hydra's mpiexec, PMIx launchers, Slurm's srun with PMI.)
-// A program run by hand is a single process and never touches MPI: no start-up cost, no launcher needed, and
-// nothing changes for make figures.
+// A non-negative integer from the environment variable `name`, or -1 where it is unset or not one.
+long env_count(const char* name) {
+  const char* r = std::getenv(name);
+  if (!r) return -1;
+  char* end = nullptr;
+  const long n = std::strtol(r, &end, 10);
+  return end != r && *end == 0 && n >= 0 && n <= INT_MAX ? n : -1;
+}
+
+// Started by an MPI launcher with more than one process? (Open MPI's mpirun sets OMPI_COMM_WORLD_SIZE,
+// MPICH/Hydra's mpiexec and Slurm's srun with PMI set PMI_SIZE.) A rank variable alone is no evidence: a script
+// started from rank 1 of a job inherits PMI_RANK=1 and runs alone, and trusting it made that process a silent
+// non-root that wrote nothing. A program run by hand (or by a launcher of one process) is a single process and
+// never touches MPI: no start-up cost, no launcher needed, and nothing changes for make figures.
 bool launched_by_mpi() {
-  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "PMI_RANK", "MPI_LOCALNRANKS"})
-    if (std::getenv(v)) return true;
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (env_count(v) > 1) return true;
   return false;
 }
 
@@ -60,13 +71,10 @@ Sweep::Sweep() {
 
 int Sweep::launcher_rank() {
   static const int rank = [] {
+    if (!launched_by_mpi()) return 0;
     for (const char* v : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
-      if (const char* r = std::getenv(v)) {
-        char* end = nullptr;
-        const long n = std::strtol(r, &end, 10);
-        if (end != r && *end == 0 && n >= 0 && n <= INT_MAX) return static_cast<int>(n);
-      }
-    return launched_by_mpi() ? world().rank() : 0;
+      if (const long n = env_count(v); n >= 0) return static_cast<int>(n);
+    return world().rank();
   }();
   return rank;
 }

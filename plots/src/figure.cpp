@@ -11,6 +11,7 @@
 #include <fstream>
 #include <spawn.h>
 #include <sstream>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -170,15 +171,13 @@ std::string read_at(int dir_fd, const std::string& name, std::size_t tail = std:
 
 // Runs gnuplot in the folder `dir_fd` (its working directory, entered by descriptor; no shell: posix_spawnp),
 // the script on its standard input, its standard error captured in a program-named file there (created
-// exclusively). Throws with gnuplot's message unless it exits 0.
+// exclusively). Throws with gnuplot's message unless it exits 0. The script goes through a socket written with
+// MSG_NOSIGNAL: a gnuplot that died is reported by its status, and raises no SIGPIPE in us, which stays the
+// interrupt it is for our own standard output (output_run.hpp).
 void run_gnuplot(int dir_fd, const std::string& script, const std::string& errname) {
-  static const bool pipe_ignored = [] {
-    std::signal(SIGPIPE, SIG_IGN);  // a gnuplot that died is reported by its status, not by killing us
-    return true;
-  }();
-  (void)pipe_ignored;
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(std::string("cannot start gnuplot: ") + std::strerror(errno));
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
+    throw std::runtime_error(std::string("cannot start gnuplot: ") + std::strerror(errno));
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_adddup2(&fa, fds[0], 0);
@@ -214,7 +213,7 @@ void run_gnuplot(int dir_fd, const std::string& script, const std::string& errna
   const char* p = script.data();
   std::size_t left = script.size();
   while (left > 0) {
-    const ssize_t n = ::write(fds[1], p, left);
+    const ssize_t n = ::send(fds[1], p, left, MSG_NOSIGNAL);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;  // gnuplot stopped reading: its status and message tell why
     p += n;

@@ -8,8 +8,10 @@
 #include <stdexcept>
 #include <thread>
 
+#include "geomint/budget.hpp"
 #include "geomint/error.hpp"
 #include "geomint/parallel.hpp"
+#include "geomint/step_cost.hpp"
 #include "geomint/sweep.hpp"
 
 namespace geomint {
@@ -181,6 +183,16 @@ EnsembleRun unpack_ensemble_run(const std::string& row) {
       r.newton_mean);
   require(rd.done(), "ensemble: a gathered row is longer than one run");
   return r;
+}
+
+void plan_ensemble(const SystemInfo& sys, const EnsembleSpec& spec, const std::string& lower) {
+  require(spec.runs >= 1 && spec.runs <= 10000000, "runs must be in [1, 1e7], got " + std::to_string(spec.runs));
+  sys.validate(spec.base);
+  const long N = step_count(spec.h, sys.horizon(spec.base));
+  plan_steps(static_cast<double>(spec.runs) * static_cast<double>(N), "the ensemble (runs x T/h)",
+             step_cost(sys, spec.scheme, spec.path));
+  check_memory(static_cast<double>(spec.runs) * ensemble_run_bytes(sys.dof, spec.perturb.size()),
+               "the ensemble's " + std::to_string(spec.runs) + " runs (lower " + lower + ")");
 }
 
 double ensemble_run_bytes(int dof, std::size_t perturbed) {

@@ -7,9 +7,11 @@
 
 #include <gsl/gsl_fit.h>
 
+#include "geomint/budget.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/record.hpp"
+#include "geomint/step_cost.hpp"
 #include "geomint/sweep.hpp"
 
 namespace geomint {
@@ -162,6 +164,16 @@ struct Point {
   std::string failure;
 };
 }  // namespace
+
+void plan_convergence(const SystemInfo& sys, const std::vector<ParamValues>& combos,
+                      const std::vector<std::string>& schemes, const std::vector<double>& hs, Path path) {
+  double cost = 0;  // of one step of every scheme, in cheap steps
+  for (const auto& s : schemes) cost += step_cost(sys, s, path);
+  for (const auto& pv : combos)
+    for (double h : hs)
+      plan_steps(static_cast<double>(step_count(h, sys.horizon(pv))), "the sweep (combinations x schemes x T/h)",
+                 cost);
+}
 
 double reference_step(const SystemInfo& sys, const std::vector<double>& hs) {
   require(!hs.empty(), "a study needs h");

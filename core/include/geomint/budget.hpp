@@ -21,6 +21,26 @@ constexpr double seconds_budget = 3600;
 void set_budget_enabled(bool enabled);
 bool budget_enabled();
 
+// How the refusal tells the user to lift the time budget: "--no-budget" (a program's option, the default) or,
+// set by a caller that has no command line, its own spelling ("budget=False" in the Python module).
+void set_budget_opt_out(const std::string& how);
+
+// One top-level call's budget (a Python module call): the planned totals start from zero, the time budget is on
+// or off as the caller says, and refusals name "budget=False"; all restored at the end of the scope. A program
+// plans once per process; a module plans once per call, so a refused call must not count against the next one.
+class BudgetScope {
+ public:
+  explicit BudgetScope(bool enabled, std::string opt_out = "budget=False");
+  ~BudgetScope();
+  BudgetScope(const BudgetScope&) = delete;
+  BudgetScope& operator=(const BudgetScope&) = delete;
+
+ private:
+  bool enabled_;
+  double steps_, seconds_;
+  std::string opt_out_;
+};
+
 // Throws unless `steps` (a count, possibly huge or non-finite) fits a long and max_steps_per_run.
 void check_steps(double steps, const std::string& what);
 // Adds `steps` (each costing `cost` cheap steps) to the program's planned total and throws when it exceeds

@@ -18,4 +18,10 @@ constexpr double generic_step_cost = 20;
 // unknown scheme (naming the known ones).
 double step_cost(const SystemInfo& sys, const std::string& scheme, Path path);
 
+// The plan of one run of `scheme` (integrate): its T/h steps at step_cost against the time budget, and the rows it
+// keeps (N/every + 1, Run::bytes_per_step each, `copies` times: a caller that copies the run holds it twice)
+// against the memory available, which no opt-out lifts. `raise` names what to raise in the message.
+void plan_run(const SystemInfo& sys, const std::string& scheme, Path path, double h, double T, long every,
+              double copies = 1, const std::string& raise = "--every");
+
 }  // namespace geomint

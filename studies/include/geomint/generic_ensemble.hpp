@@ -61,5 +61,10 @@ std::string pack(const EnsembleRun& r);
 EnsembleRun unpack_ensemble_run(const std::string& row);
 // The memory one run's result holds (for check_memory before an ensemble starts).
 double ensemble_run_bytes(int dof, std::size_t perturbed);
+// The ensemble program's plan, before any run's own parameters are validated (validating 1e7 of them takes
+// seconds, refusing an over-budget plan none): runs in [1, 1e7], runs x T/h steps at the scheme's step cost
+// against the time budget, and the runs' results against the memory available (budget.hpp). `lower` names what
+// to lower in the message (a program's "--runs", a module's "runs").
+void plan_ensemble(const SystemInfo& sys, const EnsembleSpec& spec, const std::string& lower = "--runs");
 
 }  // namespace geomint

@@ -120,6 +120,11 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
 // declares measures (they read the reference between steps, e.g. the Foucault chord energy at t_{j+1/2}).
 double reference_step(const SystemInfo& sys, const std::vector<double>& hs);
 
+// The convergence program's plan: every combination's T/h steps of every h, one step of every scheme each, at
+// their step costs, against the time budget (budget.hpp).
+void plan_convergence(const SystemInfo& sys, const std::vector<ParamValues>& combos,
+                      const std::vector<std::string>& schemes, const std::vector<double>& hs, Path path);
+
 // The series' fits from its h, err and band (local orders, least-squares and asymptotic fits).
 void fit_series(ConvergenceSeries& s);
 
