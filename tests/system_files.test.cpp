@@ -141,7 +141,7 @@ TEST_CASE("a parameter named like a program option is refused at its line", "[sy
   CHECK(model_of(one_dof("v1^2/2", "hh = 1\nschemes2 = 1\n"))->parameter_index("schemes2") >= 0);
 }
 
-TEST_CASE("--system-file with an empty path is refused, not read as the default system", "[system-files]") {
+TEST_CASE("an empty path after --system-file is refused, not read as the default system", "[system-files]") {
   auto args = [](std::vector<std::string> words) {
     static std::vector<std::string> keep;
     keep = std::move(words);

@@ -95,14 +95,19 @@ def test_a_non_finite_state_raises_naming_the_step():
     assert "numerical failure at step %d" % e.value.step in str(e.value)
 
 
-def test_a_non_finite_energy_raises_at_step_0():
-    # the state is finite, the energy 1/t is not at t = 0
+def test_a_non_finite_energy_is_named_where_it_happens():
+    # at the initial data the system itself is refused (its energy 1/t is infinite at t = 0) ...
+    with pytest.raises(geomint.InputError, match=r"the energy E is not finite at the initial data"):
+        geomint.define_system(
+            "inverse-t", coordinates=1, L="v1^2/2 - q1^2/2", energy="v1^2/2 + q1^2/2 + 1/t",
+            parameters={"T": 1}, initial_q=["1"], initial_v=["0"]).integrate("la", h=0.125)
+    # ... and along a run, the step where it stops being finite: 1/(t - 1/2) at t = 4 h, h = 1/8 (exact in binary)
     s = geomint.define_system(
-        "inverse-t", coordinates=1, L="v1^2/2 - q1^2/2", energy="v1^2/2 + q1^2/2 + 1/t",
+        "inverse-t-half", coordinates=1, L="v1^2/2 - q1^2/2", energy="v1^2/2 + q1^2/2 + 1/(t - 1/2)",
         parameters={"T": 1}, initial_q=["1"], initial_v=["0"])
-    with pytest.raises(geomint.NumericalFailure, match=r"the energy is not finite at t = 0") as e:
-        s.integrate("la", h=0.1)
-    assert e.value.step == 0
+    with pytest.raises(geomint.NumericalFailure, match=r"the energy is not finite at t = 0.5") as e:
+        s.integrate("la", h=0.125)
+    assert e.value.step == 4
     assert e.value.quantity == "energy"
 
 
