@@ -70,6 +70,23 @@ double loglog_at(std::vector<std::pair<double, double>> pts, double x) {
 }
 
 // One baseline's runs over the tolerances: (seconds, error) and, per invariant, (seconds, max deviation).
+// A row of a run before its measures: a scheme's at step h (tol NaN) or a baseline's at tol (h NaN).
+SuiteRow run_row(const std::string& problem, const std::string& method, const std::string& invariant, double h,
+                 double tol, long steps, double error, double seconds) {
+  SuiteRow row;
+  row.problem = problem;
+  row.scheme = method;
+  row.invariant = invariant;
+  row.h = h;
+  row.tol = tol;
+  row.steps = steps;
+  row.error = error;
+  row.seconds = seconds;
+  row.measured = row.predicted = {missing_value, missing_value, 0};
+  row.offset = row.max_deviation = missing_value;
+  return row;
+}
+
 struct BaselineCurve {
   std::vector<std::pair<double, double>> error;
   std::vector<std::vector<std::pair<double, double>>> deviation;
@@ -152,17 +169,7 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
         const double error = run.t.empty() ? missing_value : suite_error(s, run.t, run.q, run.v);
         curve.error.emplace_back(seconds, error);
         for (std::size_t k = 0; k < invariants.size(); ++k) {
-          SuiteRow row;
-          row.problem = problem->name;
-          row.scheme = name;
-          row.invariant = problem->invariants[k];
-          row.h = missing_value;
-          row.tol = tol;
-          row.steps = run.steps;
-          row.error = error;
-          row.seconds = seconds;
-          row.measured = row.predicted = {missing_value, missing_value, 0};
-          row.offset = row.max_deviation = missing_value;
+          SuiteRow row = run_row(problem->name, name, problem->invariants[k], missing_value, tol, run.steps, error, seconds);
           if (run.t.size() >= 8) {
             const MeasuredDrift d = measured_drift(run, invariants[k], exact_start[k]);
             row.measured = d.slope;
@@ -198,17 +205,7 @@ SuiteStudy nonholonomic_suite_study(const SuiteStudyOptions& opt) {
             report_missing(context + " (prediction)", e.what());
           }
         for (std::size_t k = 0; k < invariants.size(); ++k) {
-          SuiteRow row;
-          row.problem = problem->name;
-          row.scheme = scheme;
-          row.invariant = problem->invariants[k];
-          row.h = h;
-          row.tol = missing_value;
-          row.steps = N;
-          row.error = error;
-          row.seconds = seconds;
-          row.measured = {missing_value, missing_value, 0};
-          row.offset = row.max_deviation = missing_value;
+          SuiteRow row = run_row(problem->name, scheme, problem->invariants[k], h, missing_value, N, error, seconds);
           if (!run.t.empty()) {
             const MeasuredDrift d = measured_drift(run, invariants[k], exact_start[k]);
             row.measured = d.slope;
