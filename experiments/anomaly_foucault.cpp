@@ -24,6 +24,7 @@
 #include <set>
 #include <thread>
 
+#include "geomint/constants.hpp"
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/scene_options.hpp"
@@ -38,7 +39,7 @@ using namespace geomint;
 
 namespace {
 
-constexpr double deg = 180 / foucault_pi;
+constexpr double deg = 180 / geomint::pi;
 const double NaN = missing_value;
 
 std::string series_name(const std::string& scheme, const std::string& constraint) {

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <thread>
 
+#include "geomint/constants.hpp"
 #include "bench_table.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/oscillator_ensemble.hpp"
@@ -264,7 +265,7 @@ int main(int argc, char** argv) {
     // ---- Foucault: one cell (alpha = 1e-4, h = 0.01) as anomaly_foucault runs it, T = 360 s (36000 steps)
     systems::FoucaultPendulum base;
     base.T = 360;
-    const double hf = 0.01, af = 1e-4, thr = 0.1 * foucault_pi / 180;
+    const double hf = 0.01, af = 1e-4, thr = 0.1 * geomint::pi / 180;
     const long Nf = step_count(hf, base.T);
     const long R = 256;  // runs per ensemble call: two batches of 128 (one per thread with two threads)
     for (const char* sn : {"la-nh", "contact-nh"})

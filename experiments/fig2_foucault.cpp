@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <map>
 
+#include "geomint/constants.hpp"
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/scene_options.hpp"
@@ -30,7 +31,7 @@ using namespace geomint;
 
 namespace {
 
-constexpr double deg = 180 / foucault_pi;
+constexpr double deg = 180 / geomint::pi;
 
 // One step of run_foucault (the closed form of (15)/(18) with its chord energy, residual, multiplier and
 // turning-point diagnostics) in the budget's cheap steps (budget.hpp): 141 ns of CPU a step (2.88e7 steps of la-nh
@@ -94,7 +95,7 @@ int main(int argc, char** argv) {
     // and the rows of the largest h's table against the memory available.
     {
       // turning points of a run: two a period of the pendulum (2 pi / sqrt(g/l)), damping aside
-      const double turns = base.T * std::sqrt(base.w2()) / foucault_pi + 1;
+      const double turns = base.T * std::sqrt(base.w2()) / geomint::pi + 1;
       const double A = static_cast<double>(alphas.size()), S = static_cast<double>(names.size());
       double steps = 0, rows = 0;
       for (double h : hs) {
@@ -256,7 +257,7 @@ int main(int argc, char** argv) {
           for (size_t i = 0; i < ang.size(); ++i) {
             // the exact angle, taken modulo pi nearest the measured one
             const double ex = theta0 - s * tt[i];
-            ang[i] = nearest_branch(ang[i] - ex, 0.0, foucault_pi) * deg;
+            ang[i] = nearest_branch(ang[i] - ex, 0.0, geomint::pi) * deg;
           }
           p.series.push_back({tt, ang, n, plots::style_for(n, "linespoints pt 7 ps 0.3")});
         }

@@ -24,7 +24,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
@@ -188,7 +188,7 @@ int main(int argc, char** argv) {
     const ParamValues fpv = sysopt.values(scene);  // the same parameters: the two systems share their scene
     const double pg = sysopt.value(scene, "g"), pl = sysopt.value(scene, "l"), px0 = sysopt.value(scene, "x0"),
                  Omega = sysopt.value(scene, "Omega"), beta = sysopt.value(scene, "beta");
-    const double s_ = Omega * std::sin(beta * boost::math::constants::pi<double>() / 180);
+    const double s_ = Omega * std::sin(beta * geomint::pi / 180);
     const double V = px0 * std::sqrt(pg / pl);  // the bob's speed through the origin (undamped, to leading order)
     const int Ko = 4;
     TsvWriter org(dir / "nonholonomic_modified_origin.tsv", "nonholonomic_modified", params,

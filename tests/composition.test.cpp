@@ -8,7 +8,7 @@
 #include <limits>
 #include <string>
 #include <vector>
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "geomint/composition_registry.hpp"
 #include "geomint/error.hpp"
@@ -121,7 +121,7 @@ TEST_CASE("a composition that fails names the system, the composition, the step 
   // the Kepler orbit at 16 steps an orbit: the midpoint rule's third stage of Yoshida's 6A (step -0.46, from just
   // past pericentre) has no solution Newton can reach: after 40 updates its row is still 0.13
   try {
-    find_system("kepler").run({{"a", 0}, {"alpha", 1e-4}, {"T", boost::math::constants::two_pi<double>()}}, "yoshida6a:la-midpoint", boost::math::constants::two_pi<double>() / 16,
+    find_system("kepler").run({{"a", 0}, {"alpha", 1e-4}, {"T", geomint::two_pi}}, "yoshida6a:la-midpoint", geomint::two_pi / 16,
                                Path::generic, 1);
     FAIL("no failure");
   } catch (const NumericalFailure& e) {

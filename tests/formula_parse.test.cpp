@@ -18,6 +18,7 @@
 
 using namespace geomint;
 using formula::FormulaSystem;
+using testing::error_of;
 
 // Allocation counting for the "no allocation per evaluation" test: the global operator new of the test binary
 // counts the allocations of this thread while `counting` is set and otherwise only forwards to malloc, as the
@@ -55,17 +56,6 @@ std::string system_text(int n, const std::string& L, const std::string& more = "
   s += "[dynamics]\nL = " + L + "\n" + more + "[initial]\n";
   for (int i = 1; i <= n; ++i) s += "q" + std::to_string(i) + " = 0.1\nv" + std::to_string(i) + " = 1\n";
   return s;
-}
-
-// The message of the InputError that `f` throws ("" if none).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 }  // namespace

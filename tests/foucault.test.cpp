@@ -13,6 +13,7 @@
 
 #include <Eigen/LU>
 
+#include "geomint/constants.hpp"
 #include "geomint/foucault_diagnostics.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
@@ -265,7 +266,7 @@ TEST_CASE("the LA anomaly of Figure 2 (alpha = 1e-4, h = 0.1) is a close pass, a
   CHECK(la.rate / -s == Approx(0.737).margin(0.01));
   // contact: 1.3e-6 m at t = 2967.8 s, 5.3 degrees, 0.83 % of the energy.
   CHECK(ct.min_pass_ratio == Approx(6.05e-5).epsilon(0.01));
-  CHECK(ct.max_jump * 180 / foucault_pi == Approx(5.26).margin(0.05));
+  CHECK(ct.max_jump * 180 / geomint::pi == Approx(5.26).margin(0.05));
   CHECK(ct.max_energy_loss == Approx(8.3e-3).epsilon(0.02));
 }
 
@@ -309,7 +310,7 @@ TEST_CASE("the continuous reference against its closed form", "[foucault][refere
     dphi = std::max(dphi, std::abs(-q(1) * v(0) + q(0) * v(1) + p.s * q.squaredNorm()));
     if (q.norm() > 0.1) {
       const double d = std::atan2(q(1), q(0)) - (0 - p.s * times[i]);
-      dtheta = std::max(dtheta, std::abs(d - foucault_pi * std::round(d / foucault_pi)));
+      dtheta = std::max(dtheta, std::abs(d - geomint::pi * std::round(d / geomint::pi)));
     }
   }
   INFO("reference vs closed form: |dq| " << dq << " |dv| " << dv << " |Phi| " << dphi << " |dtheta| " << dtheta);
@@ -432,7 +433,7 @@ TEST_CASE("the convergence study's Foucault measures are the paper's closed form
           energy = std::max(energy, std::abs(chord_energy(p, st.q, st.qn, h) - Eref) / E0);
           const auto& rj = ref[static_cast<std::size_t>(st.j * stride)];
           if (std::hypot(rj[0], rj[1]) >= q0.norm() * std::exp(-alpha * st.t / 2) / 2)
-            plane = std::max(plane, std::abs(nearest_branch(std::atan2(st.q(1), st.q(0)) - std::atan2(rj[1], rj[0]), 0.0, foucault_pi)));
+            plane = std::max(plane, std::abs(nearest_branch(std::atan2(st.q(1), st.q(0)) - std::atan2(rj[1], rj[0]), 0.0, geomint::pi)));
         });
         by_hand.summary = diag.summary();
       });

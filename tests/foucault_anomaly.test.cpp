@@ -13,6 +13,7 @@
 
 #include <Eigen/LU>
 
+#include "geomint/constants.hpp"
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
@@ -28,7 +29,7 @@ const std::string paper = systems::Foucault::name, rotation = systems::FoucaultR
 namespace {
 
 constexpr double eps = std::numeric_limits<double>::epsilon();
-constexpr double deg = 180 / foucault_pi;
+constexpr double deg = 180 / geomint::pi;
 
 systems::FoucaultPendulum scene(double alpha, double T) {
   systems::FoucaultPendulum sc;
@@ -37,7 +38,7 @@ systems::FoucaultPendulum scene(double alpha, double T) {
   return sc;
 }
 
-double wrap_pi(double a) { return nearest_branch(a, 0.0, foucault_pi); }
+double wrap_pi(double a) { return nearest_branch(a, 0.0, geomint::pi); }
 
 // Landings found by the 64-run ensemble (the default when this was written; tau_k = h (k + 1/2)/64) and Figure 2's own
 // runs (tau = 0).
@@ -101,7 +102,7 @@ TEST_CASE("the detector on a synthetic trajectory with one known kink", "[foucau
   const auto sc = scene(0, 200);
   const FoucaultParams<double> p(sc);
   const double h = 0.1, A = 0.5, w = std::sqrt(p.w2), theta0 = 0.3, delta = 3.0 / deg, f = 0.9;
-  const double t_cross = 4.5 * foucault_pi / w;  // 5th zero of cos(w t)
+  const double t_cross = 4.5 * geomint::pi / w;  // 5th zero of cos(w t)
   const long N = 2000;
   auto point = [&](long j) {
     const double t = static_cast<double>(j) * h;
@@ -127,12 +128,12 @@ TEST_CASE("the detector on a synthetic trajectory with one known kink", "[foucau
     CHECK(J.j_land == j_near);
     CHECK(J.r_land == Approx(std::abs(A * std::cos(w * static_cast<double>(j_near) * h))).epsilon(1e-12));
     CHECK(J.t_turn > t_cross);
-    CHECK(J.t_turn - t_cross < foucault_pi / w);
+    CHECK(J.t_turn - t_cross < geomint::pi / w);
     // energy at turning points: f^2 of the previous, to the O(h^2) wiggle of the chord energy
     CHECK(J.energy_loss == Approx(1 - f * f).margin(2e-3));
     CHECK(S.energy_ratio_end == Approx(f * f).margin(5e-3));
     CHECK(S.plane_error == Approx(delta).epsilon(1e-9));
-    CHECK(S.half_swings == static_cast<long>((static_cast<double>(N) * h) * w / foucault_pi));
+    CHECK(S.half_swings == static_cast<long>((static_cast<double>(N) * h) * w / geomint::pi));
   }
   // Without the kink: no jump, plane error zero, to round-off.
   AnomalyDetector<systems::FoucaultRotation, double> det(p, h, N, theta0, E0, 0.5 / deg);
@@ -425,7 +426,7 @@ TEST_CASE("ensemble runner and summary: rows for every case, failures as data", 
     }
     // N_pass 2 s h / sin K with N_pass = T omega_d / pi, restated
     const double wd = std::sqrt(base.g / base.l - base.s() * base.s() - c.alpha * c.alpha / 4);
-    CHECK(c.mean_predicted[0] == Approx(400 * wd / foucault_pi * 2 * base.s() * c.h / std::sin(1 / deg)).epsilon(1e-12));
+    CHECK(c.mean_predicted[0] == Approx(400 * wd / geomint::pi * 2 * base.s() * c.h / std::sin(1 / deg)).epsilon(1e-12));
     CHECK(c.p_predicted[0] == Approx(1 - std::exp(-c.mean_predicted[0])).epsilon(1e-12));
   }
   CHECK(quantile({3, 1, 2, std::nan(""), 4}, 0.5) == Approx(2.5));

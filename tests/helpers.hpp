@@ -1,5 +1,6 @@
 #pragma once
-// Shared test helpers: a fresh temporary folder, running a program and capturing its exit code and stderr.
+// Shared test helpers: a fresh temporary folder, the message an input error carries, running a program and capturing
+// its exit code and stderr.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +11,8 @@
 #include <sys/wait.h>
 
 #include <catch2/catch.hpp>
+
+#include "geomint/error.hpp"
 
 namespace geomint::testing {
 
@@ -28,6 +31,17 @@ inline std::string read_bytes(const std::filesystem::path& p) {
   std::ostringstream out;
   if (in && in.peek() != std::ifstream::traits_type::eof()) out << in.rdbuf();
   return out.str();
+}
+
+// The message of the InputError that `f` throws ("" if none).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 struct ProgramResult {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <map>
 #include <string>
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "geomint/kepler_anchor.hpp"
 
@@ -65,7 +65,7 @@ TEST_CASE("kepler anchor: at tau = 0.5 both contact integrators keep the orbit's
   // the law by exactly 1 - exp(2a/theta) wherever cos(theta t_j) = -1. The sixth order's stages fall between
   // the grid points and see the friction.
   auto m = scores_of(res, "anchor-1");
-  const double a = -0.07, theta = boost::math::constants::two_pi<double>();
+  const double a = -0.07, theta = geomint::two_pi;
   CHECK(std::abs(m.at(kSecond).max_momentum_err - (1 - std::exp(2 * a / theta))) < 1e-12);
   CHECK(m.at(kSixth).max_momentum_err < 0.01 * m.at(kSecond).max_momentum_err);
 }

@@ -8,7 +8,7 @@
 
 #include <catch2/catch.hpp>
 #include <gsl/gsl_integration.h>
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "geomint/foucault_diagnostics.hpp"
 #include "geomint/generic/dual.hpp"
@@ -22,7 +22,6 @@ using Osc = systems::Oscillator;
 
 namespace {
 
-const double kTwoPi = boost::math::constants::two_pi<double>();
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
 // alpha int_a^b p(t)^2 dt on the closed-form solution, by GSL's adaptive Gauss–Kronrod (qag, 61 points, relative 1e-12).
@@ -56,7 +55,7 @@ std::pair<double, double> spectral_rate_frequency(double h, double alpha) {
 
 template <class S>
 OscillatorStructure run_scheme(double alpha, double m, double periods, long windows) {
-  const double h = kTwoPi / m;
+  const double h = two_pi / m;
   return run_fixed_structure<S, true>(alpha, -0.25, 0.75, h, std::lround(periods * m), windows);
 }
 
@@ -75,7 +74,7 @@ TEST_CASE("long-horizon measures recover the exact decay rate, frequency, phase 
           "[long_horizon][oscillator]") {
   for (double alpha : {0.01, 0.1}) {
     CAPTURE(alpha);
-    const double q0 = -0.25, p0 = 0.75, T = kTwoPi * 200, dt = 0.25;
+    const double q0 = -0.25, p0 = 0.75, T = two_pi * 200, dt = 0.25;
     const long windows = 100;
     OscillatorProbe probe(alpha, T);
     const auto N = static_cast<long>(std::lround(T / dt));
@@ -112,7 +111,7 @@ TEST_CASE("long-horizon measures on the schemes agree with their one-step spectr
   // -ln(det)/h and arg(lambda)/h up to the O(h)-amplitude oscillation of log Q and of theta, whose
   // least-squares slope is O(h / T): with h <= 0.1 and T = 12566, below 1e-5 of the rate errors measured here.
   const double alpha = 0.1, m = 64, periods = 2000;
-  const double h = kTwoPi / m;
+  const double h = two_pi / m;
   auto check = [&](auto scheme, const char* name) {
     using S = decltype(scheme);
     CAPTURE(name);
@@ -122,7 +121,7 @@ TEST_CASE("long-horizon measures on the schemes agree with their one-step spectr
     CHECK(std::abs(r.frequency - freq) <= 1e-6 * freq);
     const double omega = std::sqrt(1 - alpha * alpha / 4);
     // the phase error accumulated over T is (freq - omega) T up to the bounded oscillation of theta (O(h))
-    CHECK(std::abs(std::abs(r.phase_end) - std::abs(freq - omega) * kTwoPi * periods) <= 2 * h);
+    CHECK(std::abs(std::abs(r.phase_end) - std::abs(freq - omega) * two_pi * periods) <= 2 * h);
   };
   check(Osc::La{}, "la");
   check(Osc::Contact{}, "contact");
@@ -149,7 +148,7 @@ TEST_CASE("decay-rate and frequency errors fall with the schemes' orders", "[lon
     const double omega = std::sqrt(1 - alpha * alpha / 4);
     for (double m : ms) {
       const auto r = run_scheme<S>(alpha, m, periods, 200);
-      hs.push_back(kTwoPi / m);
+      hs.push_back(two_pi / m);
       decay.push_back(std::abs(r.decay_rate - alpha) / alpha);
       freq.push_back(std::abs(r.frequency - omega) / omega);
     }
@@ -198,7 +197,7 @@ TEST_CASE("a composition of the leapfrog's closed form is the registry's composi
     std::vector<double> h_of, decay, freq;
     const double omega = std::sqrt(1 - alpha * alpha / 4);
     for (double m : ms) {
-      const double hm = kTwoPi / m;
+      const double hm = two_pi / m;
       const auto r = run_composed_structure<Osc::Leapfrog, true>(composition_stage_steps(family, hm), alpha, -0.25, 0.75, hm,
                                                                  std::lround(periods * m), 200);
       h_of.push_back(hm);

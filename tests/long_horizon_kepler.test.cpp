@@ -3,7 +3,7 @@
 
 #include <cmath>
 #include <string>
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
@@ -53,7 +53,7 @@ TEST_CASE("long_horizon --system kepler: the trapezoid keeps the momentum law to
   // Orders from fitted slopes over k = 64 .. 256 (h = 2 pi/k): the trapezoid's energy error (its phase error is
   // O(1) there, not asymptotic), the compositions' position error: 2, 4 and, for the eighth order between its two
   // coarser points, 8 (its finest nears the reference's floor).
-  const std::vector<double> hs{boost::math::constants::two_pi<double>() / 64, boost::math::constants::two_pi<double>() / 128, boost::math::constants::two_pi<double>() / 256};
+  const std::vector<double> hs{geomint::two_pi / 64, geomint::two_pi / 128, geomint::two_pi / 256};
   const auto y4 = column("yoshida4:la-trapezoid", "phase_err"), k8 = column("kahanli8:la-trapezoid", "phase_err"),
              tr = column("la-trapezoid", "energy_err");
   REQUIRE(y4.size() == 3);

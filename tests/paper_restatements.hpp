@@ -5,7 +5,7 @@
 #include <type_traits>
 
 #include <Eigen/Core>
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "geomint/systems/foucault.hpp"
 
@@ -41,7 +41,7 @@ T contact_residual(T qm, T q, T qp, T h, T alpha) {
 struct Literal {
   double m, w2, s, alpha;
   explicit Literal(const systems::FoucaultPendulum& sc)
-      : m(sc.m), w2(sc.g / sc.l), s(sc.Omega * std::sin(sc.beta_deg * boost::math::constants::pi<double>() / 180)), alpha(sc.alpha) {}
+      : m(sc.m), w2(sc.g / sc.l), s(sc.Omega * std::sin(sc.beta_deg * geomint::pi / 180)), alpha(sc.alpha) {}
 };
 
 // Rows of (15) exactly as printed, with the sum of the absolute values of their terms (the round-off scale).

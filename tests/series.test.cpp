@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "geomint/modified/series.hpp"
 
@@ -62,8 +62,8 @@ TEST_CASE("series: sin, cos, exp, log, sqrt against their Taylor coefficients", 
         CHECK(fx.coeff(j, k) == Approx(df(j + k) * b * std::pow(2.0, j) / fact).epsilon(1e-13).margin(1e-15));
       }
   };
-  check(sin(x), [](int r) { return std::sin(0.3 + r * boost::math::constants::pi<double>() / 2); });
-  check(cos(x), [](int r) { return std::cos(0.3 + r * boost::math::constants::pi<double>() / 2); });
+  check(sin(x), [](int r) { return std::sin(0.3 + r * geomint::pi / 2); });
+  check(cos(x), [](int r) { return std::cos(0.3 + r * geomint::pi / 2); });
   check(exp(x), [](int) { return std::exp(0.3); });
   check(log(x), [](int r) {
     if (r == 0) return std::log(0.3);

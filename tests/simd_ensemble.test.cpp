@@ -5,6 +5,7 @@
 
 #include <cstring>
 
+#include "geomint/constants.hpp"
 #include "geomint/oscillator_ensemble.hpp"
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/systems/oscillator.hpp"
@@ -83,7 +84,7 @@ TEST_CASE("Foucault anomaly ensembles: every width and thread count gives the pe
   // 140 runs per cell: one full batch of 128 lanes and a partial one (12 lanes, stepped as 16)
   const auto cases = anomaly_cases({0.1, 0.05}, {1e-3, 1e-4}, {"la-nh", "contact-nh"},
                                    {systems::Foucault::name, systems::FoucaultRotation::name}, 140);
-  const double threshold = 0.01 * foucault_pi / 180;
+  const double threshold = 0.01 * geomint::pi / 180;
   const auto ref = run_anomaly_ensemble(base, cases, threshold, 1, {}, Simd::scalar);
   long jumps = 0, turns = 0;
   for (const auto& r : ref) {

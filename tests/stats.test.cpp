@@ -6,6 +6,7 @@
 
 #include <boost/math/distributions/binomial.hpp>
 
+#include "geomint/constants.hpp"
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/stats.hpp"
 
@@ -57,8 +58,8 @@ TEST_CASE("standard error of a mean", "[stats]") {
 TEST_CASE("the anomaly summary carries intervals around every probability and errors of every mean", "[stats][foucault]") {
   systems::FoucaultPendulum base;  // the hour of the paper: P(jump > 1 deg) ~ 0.26 per run at h = 0.1
   const auto runs = run_anomaly_ensemble(base, anomaly_cases({0.1}, {1e-3}, {"contact-nh"}, {systems::Foucault::name}, 40),
-                                         0.1 * foucault_pi / 180, 2);
-  const auto cells = summarize_anomaly(base, runs, 0.1 * foucault_pi / 180);
+                                         0.1 * geomint::pi / 180, 2);
+  const auto cells = summarize_anomaly(base, runs, 0.1 * geomint::pi / 180);
   REQUIRE(cells.size() == 1);
   const auto& c = cells[0];
   for (std::size_t k = 0; k < 3; ++k) {

@@ -29,16 +29,6 @@ std::shared_ptr<const formula::FormulaModel> model_of(const std::string& text) {
   return formula::compile_model(formula::parse_system_file(text, "test.geomint"));
 }
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 // One coordinate, T = `T` on line 5, `params` from line 6, `defs` under [definitions], L and `more` in [dynamics],
 // q1 = `q0`, v1 = 0.
 std::string one_dof(const std::string& L, const std::string& params = "", const std::string& defs = "",

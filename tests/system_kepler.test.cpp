@@ -6,7 +6,7 @@
 #include <array>
 #include <cmath>
 #include <vector>
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "generic_checks.hpp"
 #include "geomint/reference.hpp"
@@ -93,7 +93,7 @@ TEST_CASE("kepler: over 1000 orbits the trapezoid schemes keep the angular-momen
   // which kept the Jacobian assembled at the predictor while it contracted by only 0.48 an update, gave up after 40
   // updates at step 127875 (h = 2 pi/128) 1.6 times its round-off bound; it now refreshes it and reaches T.
   const SystemInfo& sys = find_system("kepler");
-  const double T = 1000 * boost::math::constants::two_pi<double>();
+  const double T = 1000 * geomint::two_pi;
   const ParamValues pv{{"a", 0}, {"alpha", 1e-4}, {"T", T}};
   auto momentum_law_error = [&](const std::string& scheme, double h) {
     const Run run = sys.run(pv, scheme, h, Path::generic, 1);
@@ -106,7 +106,7 @@ TEST_CASE("kepler: over 1000 orbits the trapezoid schemes keep the angular-momen
     }
     return worst;
   };
-  const double h = boost::math::constants::two_pi<double>() / 128;
+  const double h = geomint::two_pi / 128;
   for (const char* scheme : {"la-trapezoid", "contact-trapezoid"}) {
     INFO(scheme);
     CHECK(momentum_law_error(scheme, h) < 1e-10);

@@ -1,4 +1,5 @@
 // The out-of-line parts of the Foucault pendulum's systems (core/include/geomint/systems/foucault.hpp).
+#include "geomint/constants.hpp"
 #include "geomint/systems/foucault.hpp"
 
 #include <cmath>
@@ -42,7 +43,7 @@ FoucaultPendulum::Measures::Measures(const FoucaultPendulum& sys, double h, long
   E0_ = foucault_energy(p_, q0, consistent_velocity(p_, q0, Vec2<double>(sys.vx0, sys.vy0)));
   min_r_ = r0_;
   // turning points come twice a period; at most one a step
-  const double period = 2 * foucault_pi / std::sqrt(std::abs(p_.w2 - p_.s * p_.s));
+  const double period = 2 * geomint::pi / std::sqrt(std::abs(p_.w2 - p_.s * p_.s));
   const double turns = std::min(4 * static_cast<double>(N) * h / period, static_cast<double>(N));
   plane_.turns.reserve(static_cast<std::size_t>(std::isfinite(turns) ? turns : static_cast<double>(N)) + 16);
 }
@@ -62,7 +63,7 @@ void FoucaultPendulum::Measures::operator()(long j, double t, const Vec<double, 
   energy_err_ = std::max(energy_err_, std::abs(E - foucault_energy<double>(p_, rq, rv)) / E0_);
   const double rx = ref_.q[2 * k], ry = ref_.q[2 * k + 1];
   if (std::hypot(rx, ry) >= r0_ * std::exp(-alpha_ * t_ / 2) / 2)
-    plane_err_ = std::max(plane_err_, std::abs(nearest_branch(std::atan2(q_(1), q_(0)) - std::atan2(ry, rx), 0.0, foucault_pi)));
+    plane_err_ = std::max(plane_err_, std::abs(nearest_branch(std::atan2(q_(1), q_(0)) - std::atan2(ry, rx), 0.0, geomint::pi)));
   const double rn = qn.norm();
   min_r_ = std::min(min_r_, rn);
   plane_.observe(j - 1, t_, qm_.norm(), q_(0), q_(1), q_.norm(), rn, E);
@@ -92,7 +93,7 @@ void FoucaultPendulum::validate() const {
   require_positive(T, "T");
 }
 
-double FoucaultPendulum::s() const { return Omega * std::sin(beta_deg * foucault_pi / 180); }
+double FoucaultPendulum::s() const { return Omega * std::sin(beta_deg * geomint::pi / 180); }
 
 std::vector<std::pair<std::string, std::string>> FoucaultPendulum::header_params() const {
   return {{"m", format_number(m)},

@@ -1,5 +1,6 @@
 // The nonholonomic benchmark suite: its problems, their exact observables and invariants (nonholonomic_suite.hpp).
 // Each closed form is derived in python/tests/test_nonholonomic_exact.py from the system file's L, rows and force.
+#include "geomint/constants.hpp"
 #include "geomint/nonholonomic_suite.hpp"
 
 #include <cmath>
@@ -158,10 +159,10 @@ std::vector<double> suite_exact(const SuiteSystem& sys, double t) {
                    w10 = sys.param("w10"), w20 = sys.param("w20");
       const double E = (I1 * w10 * w10 + I2 * w20 * w20) / 2, A = std::sqrt(2 * E / I1), B = std::sqrt(2 * E / I2);
       const double star = std::atan2(I23 * B, I13 * A), R = B * std::hypot(I13 * A, I23 * B) / (I1 * A);
-      const double chi0 = std::remainder(std::atan2(w20 / B, w10 / A) - star, 2 * M_PI);
+      const double chi0 = std::remainder(std::atan2(w20 / B, w10 / A) - star, 2 * geomint::pi);
       const double c = std::atanh(std::sin(chi0));
       const double branch = std::asin(std::tanh(R * s + c));
-      const double psi = star + (std::cos(chi0) >= 0 ? branch : M_PI - branch);
+      const double psi = star + (std::cos(chi0) >= 0 ? branch : geomint::pi - branch);
       return {decay * A * std::cos(psi), decay * B * std::sin(psi)};
     }
     case Kind::oscillator: {

@@ -24,7 +24,7 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_multifit.h>
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
@@ -41,7 +41,6 @@ using State2 = std::array<double, 2>;
 
 namespace {
 
-const double kPi = boost::math::constants::pi<double>();
 
 struct Fit {
   double amp = missing_value, phase = missing_value;
@@ -133,7 +132,7 @@ struct Study {
 int long_horizon_forced(int argc, char** argv) {
   return [&] {
     std::vector<double> periods{100, 300}, ms{8, 16, 32, 64, 128}, tols{1e-5, 1e-7, 1e-9, 1e-11};
-    double alpha = 0.1, beta = 0.3, omega = kPi / 3;
+    double alpha = 0.1, beta = 0.3, omega = pi / 3;
     int reps = 3;
     std::vector<std::string> schemes;
     Cli cli("long_horizon", "long-horizon steady-state amplitude and phase error against CPU time: forced oscillator");
@@ -163,7 +162,7 @@ int long_horizon_forced(int argc, char** argv) {
       for (const char* c : {"yoshida4:la-trapezoid", "yoshida6a:la-trapezoid", "kahanli8:la-trapezoid"}) schemes.push_back(c);
     }
     for (const auto& s : schemes) sys.scheme(s);  // InputError naming the known ones, before any work
-    const double Tf = 2 * kPi / omega;
+    const double Tf = 2 * pi / omega;
     auto values_for = [&](double P) {
       return ParamValues{{"alpha", alpha}, {"beta", beta}, {"omega", omega}, {"dq0", 0}, {"dv0", 0}, {"T", P * Tf}};
     };

@@ -22,7 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
@@ -42,7 +42,6 @@ using namespace geomint;
 
 namespace {
 
-const double kTwoPi = boost::math::constants::two_pi<double>();
 
 struct Measure {
   const char* column;
@@ -154,7 +153,7 @@ int long_horizon_oscillator(int argc, char** argv) {
               "every horizon must be at least 3 windows and a multiple of --window-periods");
     require(reps >= 1 && reps <= 1000, "reps must be in [1, 1000]");
     for (double a : alphas)
-      require(a * kTwoPi * window_periods <= 20,
+      require(a * two_pi * window_periods <= 20,
                 "the energy must decay by at most e^-20 per window (alpha 2 pi window-periods <= 20), so that the adaptive "
                 "methods' tolerance stays relative to the amplitude: lower --window-periods");
     std::sort(periods.begin(), periods.end());
@@ -168,9 +167,9 @@ int long_horizon_oscillator(int argc, char** argv) {
     for (double a : alphas)
       for (double P : periods) {
         std::fprintf(stderr, "long_horizon: alpha = %g, %g periods ...\n", a, P);
-        const double T = kTwoPi * P;
+        const double T = two_pi * P;
         for (double m : ms) {
-          const double h = kTwoPi / m;
+          const double h = two_pi / m;
           const long N = std::lround(P * m);
           const long W = std::lround(P / window_periods);
           for (const auto& name : geo)

@@ -1,3 +1,4 @@
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/foucault_ensemble.hpp"
 #include "geomint/sweep.hpp"
@@ -534,7 +535,7 @@ double predicted_jump_count(const systems::FoucaultPendulum& base, double alpha,
   const FoucaultParams<double> p(sc);
   const double wd2 = p.w2 - p.s * p.s - alpha * alpha / 4;
   if (!(wd2 > 0)) return missing_value;
-  const double passes = sc.T * std::sqrt(wd2) / foucault_pi;
+  const double passes = sc.T * std::sqrt(wd2) / geomint::pi;
   return passes * std::min(1.0, 2 * std::abs(p.s) * h / std::sin(K));
 }
 
@@ -554,7 +555,7 @@ double quantile(std::vector<double> v, double q) {
 
 std::vector<AnomalyCell> summarize_anomaly(const systems::FoucaultPendulum& base, const std::vector<AnomalyRun>& runs,
                                            double record_threshold) {
-  constexpr double deg = 180 / foucault_pi;
+  constexpr double deg = 180 / geomint::pi;
   // cells in the order of (scheme, system, alpha, h) sorted by those keys ("foucault" before "foucault-rotation")
   std::map<std::tuple<std::string, std::string, double, double>, std::vector<const AnomalyRun*>> groups;
   for (const auto& r : runs)

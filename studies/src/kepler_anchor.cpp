@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include <boost/math/constants/constants.hpp>
+#include "geomint/constants.hpp"
 #include <boost/numeric/odeint.hpp>
 
 #include "geomint/budget.hpp"
@@ -21,8 +21,6 @@ namespace geomint {
 namespace {
 
 constexpr double nan = missing_value;
-const double two_pi = boost::math::constants::two_pi<double>();
-const double pi = boost::math::constants::pi<double>();
 using State = std::array<double, 4>;  // (q1, q2, q1', q2')
 
 ParamValues params_of(const KeplerSetting& s) { return {{"a", s.a}, {"theta", s.theta}, {"e", s.e}, {"T", s.T}}; }

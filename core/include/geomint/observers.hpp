@@ -3,6 +3,8 @@
 // branches (the plane of oscillation of the Foucault pendulum, a phase), and the turning-point test.
 #include <cmath>
 
+#include "geomint/constants.hpp"
+
 namespace geomint {
 
 // The representative of an angle a, defined modulo `period`, nearest to `target`: how an angle is continued
@@ -15,7 +17,6 @@ inline double nearest_branch(double a, double target, double period) {
 // The angle of the line through the origin and (x, y), continued from the previous one: a line's angle is
 // defined modulo pi (the bob of a pendulum passes through the origin and its polar angle jumps by pi there).
 inline double line_angle(double x, double y, double previous) {
-  constexpr double pi = 3.14159265358979323846;
   return nearest_branch(std::atan2(y, x), previous, pi);
 }
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <unordered_set>
 
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/formula/parser.hpp"
 #include "geomint/text.hpp"
@@ -26,7 +27,6 @@ std::string FormulaModel::parameter_names() const {
 
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> row(b.size() + 1);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/observers.hpp"
 #include "geomint/systems/foucault.hpp"
@@ -62,7 +63,7 @@ class FoucaultDiagnostics {
     summary_.min_r = static_cast<double>(q0.norm());
     // Reserve once: turning points come twice per period 2 pi / sqrt(w2 - s^2); doubled for safety, and at most
     // one a step (a period shorter than h, from an extreme Omega or g, would otherwise ask for any amount).
-    const double period = 2 * foucault_pi / std::sqrt(std::abs(static_cast<double>(p.w2 - p.s * p.s)));
+    const double period = 2 * geomint::pi / std::sqrt(std::abs(static_cast<double>(p.w2 - p.s * p.s)));
     const double per_period = std::min(4 * static_cast<double>(N) * static_cast<double>(h) / period, static_cast<double>(N));
     const auto turns_est = static_cast<std::size_t>(std::isfinite(per_period) ? per_period : static_cast<double>(N)) + 16;
     plane_.turns.reserve(turns_est);

@@ -41,6 +41,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/observers.hpp"
 #include "geomint/simd.hpp"
@@ -136,7 +137,7 @@ class AnomalyDetector {
   // A turning point at q_j (t = t_j), with the landing of the half-swing that ends there.
   void turn(long j, T t_j, const Vec2<T>& q, const Vec2<T>& qn, const AnomalyLanding<T>& best) {
     using std::sqrt;
-    constexpr double pi = foucault_pi;
+    constexpr double pi = geomint::pi;
     const double t = static_cast<double>(t_j);
     const double x = static_cast<double>(q(0)), y = static_cast<double>(q(1));
     double a = std::atan2(y, x);

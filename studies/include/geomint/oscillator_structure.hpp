@@ -33,6 +33,7 @@
 #include <Eigen/Core>
 #include <boost/math/constants/constants.hpp>
 
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/observers.hpp"
@@ -137,7 +138,7 @@ class OscillatorProbe {
   }
 
  private:
-  static constexpr double two_pi = boost::math::constants::two_pi<double>(), ln2 = boost::math::constants::ln_two<double>();
+  static constexpr double two_pi = geomint::two_pi, ln2 = boost::math::constants::ln_two<double>();
   double alpha_, omega_, T_;
   bool started_ = false;
   double theta0_ = 0, theta_ = 0, t0_ = 0, t_last_ = 0, E_last_ = 0, balance_ = 0;

@@ -9,6 +9,7 @@
 // Templated on the parameter type (ForcedOscillator = ForcedOscillatorT<double>): a symbolic P gives the formulas.
 #include <cmath>
 
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/system.hpp"
 #include "geomint/linear_oscillator.hpp"
@@ -23,7 +24,7 @@ struct ForcedOscillatorT {
   static constexpr int constraints = 0;
   static constexpr bool linear = true;  // L quadratic in (q, q'), F linear: every step is a linear solve
 
-  P alpha = 0.1, beta = 0.3, omega = 3.14159265358979323846 / 3, dq0 = 0, dv0 = 0, T = 50;
+  P alpha = 0.1, beta = 0.3, omega = geomint::pi / 3, dq0 = 0, dv0 = 0, T = 50;
 
   template <class V>
   void visit(V&& v) {

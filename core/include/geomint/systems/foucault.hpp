@@ -31,6 +31,7 @@
 
 #include <Eigen/Core>
 
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/fast_path.hpp"
 #include "geomint/generic/schemes.hpp"
@@ -40,7 +41,6 @@
 
 namespace geomint {
 
-inline constexpr double foucault_pi = 3.14159265358979323846;
 
 template <class T>
 using Vec2 = Eigen::Matrix<T, 2, 1>;
