@@ -1,0 +1,224 @@
+#pragma once
+// The logarithmic-Hamiltonian (logH) leapfrog: an explicit time-transformed scheme for separable systems
+//   H = T(p) - U(q),  U > 0 (an attraction, U = -V: 1/|q| for Kepler),  with a friction F = -gamma(t) p,
+// stepped at a fixed step h in a fictitious time sigma, so that the physical step dt follows the motion (short
+// where the orbit is fast). Mikkola & Tanikawa, Celest. Mech. Dyn. Astron. 74 (1999) 287; Preto & Tremaine, Astron.
+// J. 118 (1999) 2532. For the Kepler problem the conservative leapfrog is exact up to a phase: energy, angular
+// momentum and the Laplace–Runge–Lenz vector stay at round-off for any step, only t(sigma) carries an error.
+//
+// Derivation. In the extended phase space (q, t; p, B), B = -E the binding energy (the momentum conjugate to t),
+// the extended Hamiltonian Gamma = T(p) + B - U(q) vanishes on the motion. So does
+//   Lambda = ln(T(p) + B) - ln U(q),
+// a Poincaré transformation of Gamma by 1/(T + B) = 1/U on Gamma = 0; Lambda is separable into a part in the
+// momenta (p, B) and a part in the positions (q, t), so its leapfrog is explicit. In sigma:
+//   drift (from ln(T + B)):  q' = dT/dp / W,  t' = 1/W,  W = T(p) + B constant;  a drift of length s advances
+//                            q and t by dt = s/W:  q += dt dT/dp(p),  t += dt
+//   kick  (from -ln U):      p' = grad ln U(q) (q, t, B constant);  a kick of length s:  p += s grad ln U(q),
+//                            which is p += dt_k grad U with dt_k = s/U (for Kepler: p -= s q/|q|^2, no root)
+// and one step is drift(h/2) kick(h) drift(h/2): symmetric, second order in h, symplectic in (q, t; p, B).
+//
+// The friction. A force F(t, q, v) changes E at the rate F.v, so in the extended variables p' = F, B' = -F.v with
+// v = dT/dp. At fixed q this flow keeps W = T(p) + B: dW/dt = v.F - F.v = 0 (the kinetic energy it removes is the
+// binding energy it adds). So it belongs in the drift, the only part that advances t, with the same W: the drift
+// is the flow of  (1/W)(v d/dq + d/dt + F d/dp - F.v d/dB),  split symmetrically (Strang) into
+//   friction over [t, t + dt/2] at fixed q,  q += dt v(p),  friction over [t + dt/2, t + dt],  t += dt,
+// each part exact and W unchanged by every one, so dt = s/W holds for the whole drift and the drift stays
+// symmetric (its inverse is the drift of length -s from its end). For F = -gamma(t) p (a linear friction on the
+// momentum: -gamma(t) M v for T = p.M^{-1}p/2), the friction flow at fixed q is exact:
+//   p <- p exp(-int gamma),   B <- W - T(p)   (the energy balance: B gains exactly the kinetic energy lost).
+// Why over the drift's dt: then the friction acts over exactly the intervals that t advances over, which tile
+// [0, t_N]; for Kepler the drift (q += dt p) and the kick (p parallel to q) keep M = q x p, so M is multiplied by
+// exp(-int_0^{t_N} gamma) and nothing else: the exact law M(t) = M(0) exp(-int_0^t gamma) holds at round-off at the
+// scheme's own t. Applied over the kick's dt_k = s/U instead (what a regularized N-body code such as SpaceHub
+// does with its auxiliary-velocity kick, advancing B over the same dt_k), the friction acts over intervals that
+// sum to sum(s/U), which differs from the t the drifts advance by O(h^2): the law then holds to O(h^2) only
+// (FrictionOver::kick, kept for the test that shows it).
+//
+// A system that runs it declares, beside its L and force (tests/logh.test.cpp holds these to them by AD):
+//   template <class S> S kinetic(const Vec<S, n>& p) const;             T(p)
+//   template <class S> Vec<S, n> kinetic_gradient(const Vec<S, n>& p) const;   dT/dp, the velocity
+//   template <class S> S attraction(const Vec<S, n>& q) const;          U(q) = -V(q) > 0, autonomous
+//   template <class S> Vec<S, n> log_attraction_gradient(const Vec<S, n>& q) const;   grad ln U = grad U / U
+//   double damping_integral(double t0, double t1) const;              int_{t0}^{t1} gamma, F = -gamma(t) p
+//
+// Compositions: a step of "<family>:logh" is the family's stages (composition_families.hpp), each a leapfrog step
+// of length w_i h, so it costs s kicks (force evaluations) a step and has the family's order in sigma and in t.
+//
+// Output times. A fixed step in sigma lands on no prescribed t. Physical time advances only in the drifts, by
+// dt = s/W > 0, so t after one step of length s in (0, h] is a smooth increasing function of s; the state at an
+// output time t_i in [t_j, t_{j+1}) is one step of the same method (leapfrog or composition) from the state at t_j
+// with the s that makes it land on t_i, solved by the secant method from the bracket [0, h] (t is nearly linear
+// in s: a few evaluations). The partial step is not continued from: the run keeps its fixed step in sigma (its
+// long-time behaviour is that of the fixed-step map), and the output has the local error of one step of the
+// method, O(s^{p+1}), the order p of the method itself (what dense output of order p would give, at the price of
+// one partial step per output time).
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "geomint/error.hpp"
+#include "geomint/generic/composition_families.hpp"
+#include "geomint/generic/system.hpp"
+
+namespace geomint::generic {
+
+enum class FrictionOver { drift, kick };
+
+template <class Sys>
+class Logh {
+ public:
+  static constexpr int n = Sys::dof;
+  using VecN = Vec<double, n>;
+  struct State {
+    VecN q, p;
+    double t = 0, B = 0;  // physical time, binding energy -E
+  };
+
+  // family == nullptr: the leapfrog itself; else its composition with that family.
+  Logh(const Sys& sys, double h, const CompositionFamily* family = nullptr, FrictionOver over = FrictionOver::drift)
+      : sys_(sys), h_(h), over_(over) {
+    require(std::isfinite(h) && h > 0, "the logH step in sigma must be positive and finite, got " + show(h));
+    if (family) {
+      require(!family->weights.empty(), "composition family '" + family->name + "' has no weights");
+      for (const long double w : family->weights) weights_.push_back(static_cast<double>(w));
+    } else {
+      weights_.push_back(1.0);
+    }
+  }
+
+  // From q0 and the momentum p0; B0 = U(q0) - T(p0), so that W = U on the motion.
+  void start(const VecN& q0, const VecN& p0, double t0 = 0) {
+    s_.q = q0;
+    s_.p = p0;
+    s_.t = t0;
+    s_.B = sys_.attraction(q0) - sys_.kinetic(p0);
+    require(std::isfinite(s_.B) && sys_.attraction(q0) > 0, "the logH scheme needs U(q0) > 0 and finite data");
+    require(W(s_) > 0, "the logH scheme needs T(p0) + B0 = U(q0) > 0");
+    kicks_ = 0;
+    steps_ = 0;
+  }
+
+  // One step of length h in sigma (all stages).
+  void step() { step(s_, h_); }
+  // One step of length s from x (all stages), in place.
+  void step(State& x, double s) {
+    for (const double w : weights_) leapfrog(x, w * s);
+  }
+
+  const State& state() const { return s_; }
+  State& state() { return s_; }
+  double h() const { return h_; }
+  int stages() const { return static_cast<int>(weights_.size()); }
+  long kicks() const { return kicks_; }  // force evaluations so far (one a stage, partial steps included)
+  long steps() const { return steps_; }  // full steps of run_to (the state it has stepped to is one past the last output)
+
+  // The state at t_out in [x.t, y.t] where y is one step of length h from x: one step of length s in [0, h] from x
+  // landing on t_out (secant method on the bracket; see the header). Its t is set to t_out exactly: what is left of
+  // the solve is below 8 ulp(t_out), far below the method's error.
+  State partial(const State& x, const State& y, double t_out) {
+    require(t_out >= x.t && t_out <= y.t, "partial step: t_out outside the step");
+    if (t_out == x.t) return x;
+    if (t_out == y.t) return y;
+    double s0 = 0, t0 = x.t, s1 = h_, t1 = y.t;  // bracket, t increasing in s
+    double sa = s0, ta = t0, sb = s1, tb = t1;    // the two latest points for the secant
+    const double tol = 8 * std::numeric_limits<double>::epsilon() * std::abs(t_out);
+    State z = y;
+    for (int it = 0; it < 30; ++it) {
+      double s = sb - (tb - t_out) * (sb - sa) / (tb - ta);
+      if (!(s > s0 && s < s1)) s = (t_out - t0) / (t1 - t0) * (s1 - s0) + s0;  // fall back on the bracket
+      z = x;
+      step(z, s);
+      if (std::abs(z.t - t_out) <= tol) {
+        z.t = t_out;
+        return z;
+      }
+      if (z.t < t_out) {
+        s0 = s;
+        t0 = z.t;
+      } else {
+        s1 = s;
+        t1 = z.t;
+      }
+      sa = sb;
+      ta = tb;
+      sb = s;
+      tb = z.t;
+      if (tb == ta) break;
+    }
+    throw NumericalFailure(0, "t", "the logH partial step did not land on t = " + show(t_out) + " (reached " + show(z.t) + ")");
+  }
+
+  // Steps at h until `times` (increasing, >= the start) are passed, calling observe(i, state at times[i]) for
+  // each: a step that would pass t_i is kept as the next state, and t_i is reached by a partial step from the
+  // state before it (the run itself never leaves its fixed step in sigma).
+  template <class Observer>
+  void run_to(const std::vector<double>& times, Observer&& observe) {
+    State next = s_;
+    step(next, h_);
+    ++steps_;
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      const double ti = times[i];
+      require(ti >= s_.t, "output times must increase from the start");
+      while (next.t < ti) {
+        s_ = next;
+        step(next, h_);
+        ++steps_;
+        if (!std::isfinite(next.t) || !next.q.allFinite() || !next.p.allFinite())
+          throw NumericalFailure(0, "state", "the logH state is not finite at t = " + show(s_.t));
+      }
+      observe(i, partial(s_, next, ti));
+    }
+  }
+
+  double W(const State& x) const { return sys_.kinetic(x.p) + x.B; }
+
+ private:
+  // Friction over [t0, t1] at fixed q: p scaled by exp(-int gamma), B by the energy balance (W kept exactly).
+  void friction(State& x, double t0, double t1, double w) const {
+    const double c = std::exp(-sys_.damping_integral(t0, t1));
+    x.p *= c;
+    x.B = w - sys_.kinetic(x.p);
+  }
+
+  void drift(State& x, double s) const {
+    const double w = W(x), dt = s / w, t0 = x.t, tm = t0 + dt / 2, t1 = t0 + dt;
+    if (over_ == FrictionOver::drift) friction(x, t0, tm, w);
+    x.q += dt * sys_.kinetic_gradient(x.p);
+    if (over_ == FrictionOver::drift) friction(x, tm, t1, w);
+    x.t = t1;
+  }
+
+  void kick(State& x, double s) {
+    ++kicks_;
+    if (over_ == FrictionOver::drift) {
+      x.p += s * sys_.log_attraction_gradient(x.q);
+      return;
+    }
+    // The variant kept for the counter-test: the friction over the kick's own dt_k = s/U, in two halves about the
+    // conservative kick, B advanced by the kinetic energy each half removes (t does not move in a kick).
+    const double dtk = s / sys_.attraction(x.q), tm = x.t + dtk / 2;
+    double T0 = sys_.kinetic(x.p);
+    x.p *= std::exp(-sys_.damping_integral(x.t, tm));
+    x.B += T0 - sys_.kinetic(x.p);
+    x.p += s * sys_.log_attraction_gradient(x.q);
+    T0 = sys_.kinetic(x.p);
+    x.p *= std::exp(-sys_.damping_integral(tm, x.t + dtk));
+    x.B += T0 - sys_.kinetic(x.p);
+  }
+
+  void leapfrog(State& x, double s) {
+    drift(x, s / 2);
+    kick(x, s);
+    drift(x, s / 2);
+  }
+
+  const Sys& sys_;
+  double h_;
+  FrictionOver over_;
+  std::vector<double> weights_;
+  State s_;
+  long kicks_ = 0, steps_ = 0;
+};
+
+}  // namespace geomint::generic
