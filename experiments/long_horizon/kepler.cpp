@@ -13,7 +13,9 @@
 // Methods: the geometric schemes and compositions (--schemes; their evaluations of the residual counted: Newton
 // evaluates it before each update and once where it accepts, each time the derivatives of L at the quadrature
 // nodes; the Jacobian, kept across steps while it converges in one update, is not counted) over k steps an orbit
-// (h = 2 pi/k); Odeint rk4 over
+// (h = 2 pi/k); the logH leapfrog and its compositions (--schemes logh <family>:logh, generic/logh.hpp) at a
+// fixed step 2 pi/k in the fictitious time sigma, each output time reached by a partial step of the method, its
+// kicks counted as its evaluations; Odeint rk4 over
 // k; Odeint dopri5 and Bulirsch–Stoer (dense output on the grid) and GSL rk8pd (stepped to each output time) over
 // the tolerance, all on the system's hand-written right-hand side, whose calls are counted.
 //   long_horizon --system kepler [--orbits 100 300] [--k 32 64 128 256] [--tol 1e-6 1e-8 1e-10 1e-12] [--alpha 1e-5]
@@ -156,7 +158,8 @@ int long_horizon_kepler(int argc, char** argv) {
         "theta", po::value(&theta)->default_value(theta, "2 pi"), "frequency of the periodic friction")(
         "schemes", po::value(&schemes)->multitoken(),
         "schemes and compositions <family>:<base> of kepler (default la-trapezoid, contact-trapezoid and the "
-        "yoshida4, yoshida6a, kahanli8 compositions of la-trapezoid)")(
+        "yoshida4, yoshida6a, kahanli8 compositions of la-trapezoid), and the logH leapfrog logh with its "
+        "compositions <family>:logh (a fixed step 2 pi/k in sigma, dt = dsigma/U)")(
         "outputs", po::value(&outputs)->default_value(outputs), "output points an orbit where the errors are taken (divides every k)")(
         "reference-tol", po::value(&reference_tol)->default_value(reference_tol, "1e-17"),
         "tolerance of the long double reference, in [1e-18, 1e-12]")(
