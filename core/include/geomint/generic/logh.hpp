@@ -48,8 +48,8 @@
 // Output times. A fixed step in sigma lands on no prescribed t. Physical time advances only in the drifts, by
 // dt = s/W > 0, so t after one step of length s in (0, h] is a smooth increasing function of s; the state at an
 // output time t_i in [t_j, t_{j+1}) is one step of the same method (leapfrog or composition) from the state at t_j
-// with the s that makes it land on t_i, solved by the secant method from the bracket [0, h] (t is nearly linear
-// in s: a few evaluations). The partial step is not continued from: the run keeps its fixed step in sigma (its
+// with the s that makes it land on t_i (solved by the secant method to within 1e-6 of the step's dt, the last
+// sliver closed by one leapfrog step in t: see partial). The partial step is not continued from: the run keeps its fixed step in sigma (its
 // long-time behaviour is that of the fixed-step map), and the output has the local error of one step of the
 // method, O(s^{p+1}), the order p of the method itself (what dense output of order p would give, at the price of
 // one partial step per output time).
@@ -74,6 +74,7 @@ class Logh {
   struct State {
     VecN q, p;
     double t = 0, B = 0;  // physical time, binding energy -E
+    double iw = 0;        // 1/W = 1/(T(p) + B), kept with the state (see drift)
   };
 
   // family == nullptr: the leapfrog itself; else its composition with that family.
@@ -96,6 +97,7 @@ class Logh {
     s_.B = sys_.attraction(q0) - sys_.kinetic(p0);
     require(std::isfinite(s_.B) && sys_.attraction(q0) > 0, "the logH scheme needs U(q0) > 0 and finite data");
     require(W(s_) > 0, "the logH scheme needs T(p0) + B0 = U(q0) > 0");
+    s_.iw = 1 / W(s_);
     kicks_ = 0;
     steps_ = 0;
   }
@@ -114,24 +116,29 @@ class Logh {
   long kicks() const { return kicks_; }  // force evaluations so far (one a stage, partial steps included)
   long steps() const { return steps_; }  // full steps of run_to (the state it has stepped to is one past the last output)
 
-  // The state at t_out in [x.t, y.t] where y is one step of length h from x: one step of length s in [0, h] from x
-  // landing on t_out (secant method on the bracket; see the header). Its t is set to t_out exactly: what is left of
-  // the solve is below 8 ulp(t_out), far below the method's error.
+  // The state at t_out in [x.t, y.t] where y is one step of length h from x (see the header): one step of length
+  // s in [0, h] from x, s solved by the secant method on the bracket from the inverse cubic Hermite guess (ds/dt =
+  // W at both ends, as on the exact flow), until it lands within 1e-6 of the step's dt of t_out; the remaining
+  // delta = t_out - t is closed by one leapfrog step in t itself (drift delta/2, friction over [t, t_out], kick
+  // delta grad U, drift delta/2), whose error O(delta^3) times the third derivatives of the flow is below 1e-15
+  // here; it keeps M = q x p and scales it by the friction's exact factor (the law holds at t_out), and costs one
+  // force evaluation, against a whole composed step for each further secant iteration.
   State partial(const State& x, const State& y, double t_out) {
     require(t_out >= x.t && t_out <= y.t, "partial step: t_out outside the step");
     if (t_out == x.t) return x;
     if (t_out == y.t) return y;
+    const double span = y.t - x.t, th = (t_out - x.t) / span;
     double s0 = 0, t0 = x.t, s1 = h_, t1 = y.t;  // bracket, t increasing in s
-    double sa = s0, ta = t0, sb = s1, tb = t1;    // the two latest points for the secant
-    const double tol = 8 * std::numeric_limits<double>::epsilon() * std::abs(t_out);
+    double s = span * (th * (1 - th) * (1 - th) * W(x) + th * th * (th - 1) * W(y)) + th * th * (3 - 2 * th) * h_;
+    double sa = th < 0.5 ? s0 : s1, ta = th < 0.5 ? t0 : t1;  // the secant's partner: the nearer end
+    const double close = 1e-6 * span;
     State z = y;
     for (int it = 0; it < 30; ++it) {
-      double s = sb - (tb - t_out) * (sb - sa) / (tb - ta);
-      if (!(s > s0 && s < s1)) s = (t_out - t0) / (t1 - t0) * (s1 - s0) + s0;  // fall back on the bracket
+      if (!(s > s0 && s < s1)) s = s0 + (t_out - t0) / (t1 - t0) * (s1 - s0);  // fall back on the bracket
       z = x;
       step(z, s);
-      if (std::abs(z.t - t_out) <= tol) {
-        z.t = t_out;
+      if (std::abs(z.t - t_out) <= close) {
+        finish(z, t_out);
         return z;
       }
       if (z.t < t_out) {
@@ -141,11 +148,10 @@ class Logh {
         s1 = s;
         t1 = z.t;
       }
-      sa = sb;
-      ta = tb;
-      sb = s;
-      tb = z.t;
-      if (tb == ta) break;
+      const double sn = s - (z.t - t_out) * (s - sa) / (z.t - ta);
+      sa = s;
+      ta = z.t;
+      s = sn;
     }
     throw NumericalFailure(0, "t", "the logH partial step did not land on t = " + show(t_out) + " (reached " + show(z.t) + ")");
   }
@@ -196,8 +202,22 @@ class Logh {
     x.B = w - sys_.kinetic(x.p);
   }
 
+  // The last delta of a partial step, in t (see partial).
+  void finish(State& z, double t_out) {
+    ++kicks_;
+    const double d = t_out - z.t, w = W(z);
+    z.q += (d / 2) * sys_.kinetic_gradient(z.p);
+    friction(z, z.t, t_out, w);
+    z.p += (d * sys_.attraction(z.q)) * sys_.log_attraction_gradient(z.q);
+    z.q += (d / 2) * sys_.kinetic_gradient(z.p);
+    z.t = t_out;
+    z.iw = 1 / W(z);
+  }
+
+  // x.iw = 1/W: W is unchanged by a drift (and by the friction in it), so it is computed once a kick, and both
+  // drifts next to that kick (this stage's second, the next stage's first) multiply by it.
   void drift(State& x, double s) const {
-    const double w = W(x), dt = s / w, t1 = x.t + dt;
+    const double w = W(x), dt = s * x.iw, t1 = x.t + dt;
     if (over_ == FrictionOver::drift) {
       x.q += (dt / 2) * sys_.kinetic_gradient(x.p);
       friction(x, x.t, t1, w);
@@ -229,6 +249,7 @@ class Logh {
   void leapfrog(State& x, double s) {
     drift(x, s / 2);
     kick(x, s);
+    x.iw = 1 / W(x);
     drift(x, s / 2);
   }
 
