@@ -206,7 +206,7 @@ int main(int argc, char** argv) {
         kep.alpha = ak;
         const std::string tag = ak == 0 ? "" : ", friction";
         const Vec<double, 2> q0 = kep.initial_position<double>(), v0 = kep.initial_velocity<double>();
-        add("kepler", "leapfrog closed form" + tag, Nk, [=] {
+        add("kepler", "kepler leapfrog closed form" + tag, Nk, [=] {
           const double damp = std::exp(-ak * hk / 2);
           double x = q0(0), y = q0(1), u = v0(0), v = v0(1);
           auto accel = [](double x_, double y_, double& ax, double& ay) {
@@ -228,7 +228,7 @@ int main(int argc, char** argv) {
           do_not_optimize(x);
           do_not_optimize(u);
         });
-        add("kepler", "logh step" + tag, Nk, [=] {
+        add("kepler", "kepler logh step" + tag, Nk, [=] {
           generic::Logh<systems::Kepler> lg(kep, hk);
           lg.start(q0, v0);
           for (long j = 0; j < Nk; ++j) lg.step();
@@ -269,8 +269,8 @@ int main(int argc, char** argv) {
         {"PartialPivLU / geomint la-nh", ns["la-nh via PartialPivLU 3x3"] / ns["geomint la-nh"], 4, false},
         {"contact plain / flush-to-zero (alpha=1, 1e5)", ns["contact, plain"] / ns["contact, flush-to-zero"], 0, false},
         {"la plain / flush-to-zero (alpha=1, 1e5)", ns["la, plain"] / ns["la, flush-to-zero"], 0, false},
-        {"kepler logh step / leapfrog closed form", ns["logh step"] / ns["leapfrog closed form"], 2, true},
-        {"kepler logh step / leapfrog, friction 1e-5", ns["logh step, friction"] / ns["leapfrog closed form, friction"], 2, true},
+        {"kepler logh step / leapfrog closed form", ns["kepler logh step"] / ns["kepler leapfrog closed form"], 2, true},
+        {"kepler logh step / leapfrog, friction 1e-5", ns["kepler logh step, friction"] / ns["kepler leapfrog closed form, friction"], 2, true},
         {"quoted NumPy loop 1.8 us / geomint contact", 1800.0 / ns["geomint contact"], 300, false},
         {"quoted scipy fsolve 30 us / geomint contact", 30000.0 / ns["geomint contact"], 2000, false},
     };
