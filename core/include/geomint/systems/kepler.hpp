@@ -110,6 +110,13 @@ struct KeplerT {
     return alpha * (t1 - t0) + periodic;
   }
 
+  // Whether f is a constant (a = 0 or theta = 0), and which: the logH drift then has an exact flow.
+  bool constant_damping(double& gamma) const {
+    if (a != 0 && theta != 0) return false;
+    gamma = alpha;  // f = alpha + a sin(0) where theta = 0
+    return true;
+  }
+
   // The exact angular momentum law, M(t) / M(0) (for the tests and the studies' structural measures).
   double angular_momentum_factor(double t) const {
     return std::exp(-alpha * t - (theta != 0 ? a / theta * (1 - std::cos(theta * t)) : 0.0));
