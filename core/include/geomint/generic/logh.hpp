@@ -25,12 +25,13 @@
 // each part exact and W unchanged by every one, so dt = s/W holds for the whole drift and the drift stays
 // symmetric (its inverse is the drift of length -s from its end). (Friction halves on each side of one q-drift
 // would be as good and cost a second friction factor a drift: the factor sits on the step's critical path.)
+// For F = -gamma(t) p (a linear friction on the momentum: -gamma(t) M v for T = p.M^{-1}p/2), the friction flow
+// at fixed q is exact:
+//   p <- p exp(-int gamma),   B <- W - T(p)   (the energy balance: B gains exactly the kinetic energy lost).
 // Where the friction is constant (F = -gamma p; the system says so by constant_damping) and T quadratic, the drift
 // needs no splitting: its exact flow is p <- e^{-gamma dt} p, q <- q + (1 - e^{-gamma dt})/gamma v(p), and exact
 // flows compose, D(a) D(b) = D(a + b), so the drifts between the stages of a composition merge (a step of s
-// stages costs s + 1 drifts and s kicks). It keeps M the same way (q moves along p). For F = -gamma(t) p (a linear friction on the
-// momentum: -gamma(t) M v for T = p.M^{-1}p/2), the friction flow at fixed q is exact:
-//   p <- p exp(-int gamma),   B <- W - T(p)   (the energy balance: B gains exactly the kinetic energy lost).
+// stages costs s + 1 drifts and s kicks). It keeps M the same way (q moves along p).
 // Why over the drift's dt: then the friction acts over exactly the intervals that t advances over, which tile
 // [0, t_N]; for Kepler the drift (q += dt p) and the kick (p parallel to q) keep M = q x p, so M is multiplied by
 // exp(-int_0^{t_N} gamma) and nothing else: the exact law M(t) = M(0) exp(-int_0^t gamma) holds at round-off at the
@@ -45,6 +46,7 @@
 //   template <class S> S attraction(const Vec<S, n>& q) const;          U(q) = -V(q) > 0, autonomous
 //   template <class S> Vec<S, n> log_attraction_gradient(const Vec<S, n>& q) const;   grad ln U = grad U / U
 //   double damping_integral(double t0, double t1) const;              int_{t0}^{t1} gamma, F = -gamma(t) p
+//   bool constant_damping(double& gamma) const;                         optional: gamma, where it is constant
 //
 // Compositions: a step of "<family>:logh" is the family's stages (composition_families.hpp), each a leapfrog step
 // of length w_i h, so it costs s kicks (force evaluations) a step and has the family's order in sigma and in t.
@@ -53,10 +55,11 @@
 // dt = s/W > 0, so t after one step of length s in (0, h] is a smooth increasing function of s; the state at an
 // output time t_i in [t_j, t_{j+1}) is one step of the same method (leapfrog or composition) from the state at t_j
 // with the s that makes it land on t_i (solved by the secant method to within 1e-4 of the step's dt, the last
-// sliver closed by one leapfrog step in t: see partial). The partial step is not continued from: the run keeps its fixed step in sigma (its
-// long-time behaviour is that of the fixed-step map), and the output has the local error of one step of the
-// method, O(s^{p+1}), the order p of the method itself (what dense output of order p would give, at the price of
-// one partial step per output time).
+// sliver closed by one leapfrog step in t: see partial). The partial step is not continued from: the run keeps
+// its fixed step in sigma (its long-time behaviour is that of the fixed-step map), and the output has the local
+// error of one step of the method, O(s^{p+1}), the order p of the method itself (what dense output of order p
+// would give, at the price of one partial step per output time). Physical time is summed with Kahan's
+// compensation (State::tc).
 #include <cmath>
 #include <limits>
 #include <string>
