@@ -1,6 +1,6 @@
 // Benchmark (make bench): nanoseconds per step of every geomint oscillator scheme against a bare
 // hand-written loop of the same formulas and against Boost.Odeint and GSL baselines on the same problem;
-// subnormal slow-down and its remedy. (Ensembles: bench_ensembles.) Timed with Google Benchmark: medians over
+// subnormal slow-down and its remedy; on Kepler, the logH leapfrog's step against the leapfrog's closed form. (Ensembles: bench_ensembles.) Timed with Google Benchmark: medians over
 // repetitions; every ratio is between medians measured in this run.
 //   bench_steps [--steps 2000000] [--reps 9] [--out out] [--benchmark_filter=...]
 // Writes out/bench_steps.tsv and out/bench_ratios.tsv (timings: not reproducible bit for bit, by nature).
@@ -20,7 +20,9 @@
 #include "geomint/systems/foucault.hpp"
 #include "geomint/gsl_evolve.hpp"
 #include "geomint/fp_env.hpp"
+#include "geomint/generic/logh.hpp"
 #include "geomint/io.hpp"
+#include "geomint/systems/kepler.hpp"
 #include "geomint/systems/oscillator.hpp"
 #include "geomint/timing.hpp"
 
@@ -190,6 +192,51 @@ int main(int argc, char** argv) {
       });
     }
 
+    // Kepler (e = 0.4, h = 2 pi/128): a step of the logH leapfrog (generic/logh.hpp, at h in sigma) against the
+    // leapfrog's closed form (Störmer–Verlet, kick-drift-kick: the la-trapezoid's closed form on Kepler without
+    // friction), without friction and with alpha = 1e-5 (the leapfrog then scales p by exp(-alpha h/2) on each
+    // side, the factor hoisted out of the loop; the logH step cannot hoist it: its dt varies). One force
+    // evaluation a step each.
+    {
+      const long Nk = std::max(1000L, N / 4);
+      const double hk = 6.283185307179586 / 128;
+      for (const double ak : {0.0, 1e-5}) {
+        systems::Kepler kep;
+        kep.a = 0;
+        kep.alpha = ak;
+        const std::string tag = ak == 0 ? "" : ", friction";
+        const Vec<double, 2> q0 = kep.initial_position<double>(), v0 = kep.initial_velocity<double>();
+        add("kepler", "kepler leapfrog closed form" + tag, Nk, [=] {
+          const double damp = std::exp(-ak * hk / 2);
+          double x = q0(0), y = q0(1), u = v0(0), v = v0(1);
+          auto accel = [](double x_, double y_, double& ax, double& ay) {
+            const double r2 = x_ * x_ + y_ * y_, ir3 = 1 / (r2 * std::sqrt(r2));
+            ax = -x_ * ir3;
+            ay = -y_ * ir3;
+          };
+          double ax, ay;
+          accel(x, y, ax, ay);
+          for (long j = 0; j < Nk; ++j) {
+            u = (u * damp + hk / 2 * ax);
+            v = (v * damp + hk / 2 * ay);
+            x += hk * u;
+            y += hk * v;
+            accel(x, y, ax, ay);
+            u = (u + hk / 2 * ax) * damp;
+            v = (v + hk / 2 * ay) * damp;
+          }
+          do_not_optimize(x);
+          do_not_optimize(u);
+        });
+        add("kepler", "kepler logh step" + tag, Nk, [=] {
+          generic::Logh<systems::Kepler> lg(kep, hk);
+          lg.start(q0, v0);
+          for (long j = 0; j < Nk; ++j) lg.step();
+          do_not_optimize(lg.state().q(0));
+        });
+      }
+    }
+
     // Subnormals: alpha = 1 over t in [0, 1e5] decays below DBL_MIN at t ~ 1400 and stays subnormal.
     const double hs = 0.01;
     const long Ns = static_cast<long>(1e5 / hs);
@@ -222,6 +269,8 @@ int main(int argc, char** argv) {
         {"PartialPivLU / geomint la-nh", ns["la-nh via PartialPivLU 3x3"] / ns["geomint la-nh"], 4, false},
         {"contact plain / flush-to-zero (alpha=1, 1e5)", ns["contact, plain"] / ns["contact, flush-to-zero"], 0, false},
         {"la plain / flush-to-zero (alpha=1, 1e5)", ns["la, plain"] / ns["la, flush-to-zero"], 0, false},
+        {"kepler logh step / leapfrog closed form", ns["kepler logh step"] / ns["kepler leapfrog closed form"], 2, true},
+        {"kepler logh step / leapfrog, friction 1e-5", ns["kepler logh step, friction"] / ns["kepler leapfrog closed form, friction"], 2, true},
         {"quoted NumPy loop 1.8 us / geomint contact", 1800.0 / ns["geomint contact"], 300, false},
         {"quoted scipy fsolve 30 us / geomint contact", 30000.0 / ns["geomint contact"], 2000, false},
     };

@@ -18,6 +18,7 @@ TEST_CASE("long_horizon --system kepler rejects bad input with one line, exit 2,
   check_rejected("long_horizon", "--system kepler --reference-tol 1e-20", "reference-tol must be in");
   check_rejected("long_horizon", "--system kepler --tol 0", "tol must be in");
   check_rejected("long_horizon", "--system kepler --schemes nope", "nope");
+  check_rejected("long_horizon", "--system kepler --schemes nope:logh", "nope");
   check_rejected("long_horizon", "--system kepler --alpha=-1", "alpha");
   check_rejected("long_horizon", "--system kepler --orbits 1000000 --k 100000 --outputs 8", "steps");
 }
@@ -81,4 +82,31 @@ TEST_CASE("long_horizon --system kepler: the trapezoid keeps the momentum law to
   for (const char* f : {"kepler_long_horizon_timings.tsv", "kepler_long_horizon_summary.tsv",
                         "kepler_long_horizon_summary_evals.tsv", "kepler_long_horizon.png"})
     CHECK(std::filesystem::exists(a / f));
+}
+
+TEST_CASE("long_horizon --system kepler runs the logH schemes: the momentum law at round-off, order 4 in phase, the "
+          "kicks counted", "[programs][long_horizon][kepler]") {
+  const auto d = fresh_dir("lhk-logh");
+  const auto r = run_program("long_horizon", "--system kepler --orbits 20 --k 64 128 --tol 1e-8 --reps 1 --alpha 1e-3 "
+                                             "--schemes logh yoshida4:logh --out " + d.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto t = geomint::plots::read_tsv(d / "kepler_long_horizon.tsv");
+  auto column = [&](const std::string& method, const std::string& col) {
+    return t.numbers(col, [&](std::size_t i) { return t.text(i, "method") == method; });
+  };
+  // friction over the drifts' dt: the law at round-off at every output time (partial steps included)
+  for (const char* m : {"logh", "yoshida4:logh"})
+    for (double e : column(m, "momentum_err")) CHECK(e < 1e-12);
+  // the phase at the output times, reached by partial steps of the method: order 4 between k = 64 and 128
+  const auto y4 = column("yoshida4:logh", "phase_err");
+  REQUIRE(y4.size() == 2);
+  INFO("yoshida4:logh phase " << y4[0] << " -> " << y4[1]);
+  CHECK(std::abs(std::log2(y4[0] / y4[1]) - 4) < 0.4);
+  // evaluations are kicks: 3 a step of the composition, and more for the partial steps at 8 outputs an orbit
+  const auto ev = column("yoshida4:logh", "evals"), st = column("yoshida4:logh", "steps");
+  for (std::size_t i = 0; i < ev.size(); ++i) {
+    CHECK(ev[i] > 3 * st[i]);
+    CHECK(ev[i] < 3 * st[i] + 3 * 8 * 20 * 8);
+  }
 }

@@ -13,7 +13,9 @@
 // Methods: the geometric schemes and compositions (--schemes; their evaluations of the residual counted: Newton
 // evaluates it before each update and once where it accepts, each time the derivatives of L at the quadrature
 // nodes; the Jacobian, kept across steps while it converges in one update, is not counted) over k steps an orbit
-// (h = 2 pi/k); Odeint rk4 over
+// (h = 2 pi/k); the logH leapfrog and its compositions (--schemes logh <family>:logh, generic/logh.hpp) at a
+// fixed step 2 pi/k in the fictitious time sigma, each output time reached by a partial step of the method, its
+// kicks counted as its evaluations; Odeint rk4 over
 // k; Odeint dopri5 and Bulirsch–Stoer (dense output on the grid) and GSL rk8pd (stepped to each output time) over
 // the tolerance, all on the system's hand-written right-hand side, whose calls are counted.
 //   long_horizon --system kepler [--orbits 100 300] [--k 32 64 128 256] [--tol 1e-6 1e-8 1e-10 1e-12] [--alpha 1e-5]
@@ -37,6 +39,7 @@
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
+#include "geomint/generic/logh.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/reference.hpp"
@@ -70,6 +73,15 @@ Invariants invariants(const T& x) {
 int stages_of(const std::string& name) {
   if (!generic::is_composition_name(name)) return 1;
   return generic::find_composition_family(generic::parse_composition_name(name).family).stages();
+}
+
+// The logH leapfrog (generic/logh.hpp) and its compositions "<family>:logh": explicit time-transformed schemes
+// the study runs beside the registry's, on the same system struct (its separable form).
+bool is_logh(const std::string& name) {
+  return name == "logh" || (generic::is_composition_name(name) && generic::parse_composition_name(name).base == "logh");
+}
+const generic::CompositionFamily* logh_family(const std::string& name) {
+  return name == "logh" ? nullptr : &generic::find_composition_family(generic::parse_composition_name(name).family);
 }
 
 // The reference: the Kepler equations of the system's header in long double, RKF 7(8) at `tol`, at every output time.
@@ -146,7 +158,8 @@ int long_horizon_kepler(int argc, char** argv) {
         "theta", po::value(&theta)->default_value(theta, "2 pi"), "frequency of the periodic friction")(
         "schemes", po::value(&schemes)->multitoken(),
         "schemes and compositions <family>:<base> of kepler (default la-trapezoid, contact-trapezoid and the "
-        "yoshida4, yoshida6a, kahanli8 compositions of la-trapezoid)")(
+        "yoshida4, yoshida6a, kahanli8 compositions of la-trapezoid), and the logH leapfrog logh with its "
+        "compositions <family>:logh (a fixed step 2 pi/k in sigma, dt = dsigma/U)")(
         "outputs", po::value(&outputs)->default_value(outputs), "output points an orbit where the errors are taken (divides every k)")(
         "reference-tol", po::value(&reference_tol)->default_value(reference_tol, "1e-17"),
         "tolerance of the long double reference, in [1e-18, 1e-12]")(
@@ -168,7 +181,11 @@ int long_horizon_kepler(int argc, char** argv) {
     std::sort(orbits.begin(), orbits.end());
     orbits.erase(std::unique(orbits.begin(), orbits.end()), orbits.end());
     const SystemInfo& sys = find_system("kepler");
-    for (const auto& s : schemes) sys.scheme(s);  // InputError naming the known ones, before any work
+    for (const auto& s : schemes)  // InputError naming the known ones, before any work
+      if (is_logh(s))
+        logh_family(s);
+      else
+        sys.scheme(s);
     auto values_for = [&](double P) {
       return ParamValues{{"a", a}, {"theta", theta}, {"alpha", alpha}, {"e", e}, {"T", P * kTwoPi}};
     };
@@ -232,6 +249,36 @@ int long_horizon_kepler(int argc, char** argv) {
         const long N = step_count(h, T), stride = std::lround(k) / outputs;
         for (const auto& name : schemes) {
           double n_eval = 0;
+          if (is_logh(name)) {
+            // A fixed step h = 2 pi/k in sigma (dt = dsigma/U on the motion, so k steps an orbit on average for
+            // a = 1); each output time reached by a partial step of the method (Logh::run_to), which the timed runs
+            // include. Evaluations: the kicks (one force evaluation a stage), partial steps included.
+            const std::vector<double> out_times(grid.begin() + 1, grid.end());
+            long steps = 0;
+            auto run_logh = [&](Errors* err) {
+              generic::Logh<systems::Kepler> lg(kep, h, logh_family(name));
+              lg.start(kep.initial_position<double>(), kep.initial_velocity<double>());
+              double last = 0;
+              lg.run_to(out_times, [&](std::size_t i, const generic::Logh<systems::Kepler>::State& x) {
+                if (err) (*err)(i + 1, x.t, State{x.q(0), x.q(1), x.p(0), x.p(1)});
+                last += x.q(0);
+              });
+              do_not_optimize(last);
+              steps = lg.steps();
+              return lg.kicks();
+            };
+            WorkPoint pt = measure_point_timed(
+                    work_point(name, "geometric", "k", k, alpha, P), 4,
+                    [&] {
+                      Errors err{kep, ref, M0};
+                      err(0, 0.0, x0);
+                      n_eval = static_cast<double>(run_logh(&err));
+                      return Measured{{err.worst.begin(), err.worst.end()}, steps};
+                    },
+                    [&] { return time_per_call([&] { run_logh(nullptr); }, reps); }, reps, context(name, "k", k));
+            add(std::move(pt), n_eval);
+            continue;
+          }
           WorkPoint pt = measure_point_timed(
                   work_point(name, "geometric", "k", k, alpha, P), 4,
                   [&] {
@@ -296,8 +343,13 @@ int long_horizon_kepler(int argc, char** argv) {
         {"reference", "Boost.Odeint runge_kutta_fehlberg78, long double, tol " + format_number(reference_tol) +
                           ", stepped to every output time; max |q - q'| against tol x 100: " + format_number(ref_diff)},
         {"orbit_at_T", orbit_at},
+        {"logh", "logh and <family>:logh: the logarithmic-Hamiltonian leapfrog (Mikkola-Tanikawa 1999) and its "
+                 "compositions at a fixed step h = 2 pi/k in sigma, dt = dsigma/U on the motion; each output time "
+                 "reached by a partial step of the method itself from the last state before it (its length solved so "
+                 "that t lands on t_i; local error of the method's order; the run keeps its fixed step), included in "
+                 "the timings; friction over the drifts' dt (the angular-momentum law at round-off)"},
         {"evals", "evaluations of the equations a run: of the residual for the schemes (Newton updates + one per base "
-                  "step, where it accepts; Jacobian assemblies not counted), of the right-hand side for the baselines"},
+                  "step, where it accepts; Jacobian assemblies not counted), of the right-hand side for the baselines; for logh the kicks (force evaluations, partial steps included)"},
         {"measures", "max over the output grid: phase_err = |q - q_ref|; momentum_err = |M/(M0 exp(-alpha t - (a/theta)(1 - cos "
                      "theta t))) - 1|, M = q x q'; energy_err = |E - E_ref|/|E_ref|; lrl_err = |A - A_ref|, A = q' x M - q/|q| "
                      "(|A| = eccentricity, its direction the pericentre's)"}};

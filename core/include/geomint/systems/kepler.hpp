@@ -84,6 +84,39 @@ struct KeplerT {
     acc = -q / (r * r * r) - friction(t) * v;
   }
 
+  // The separable form the logH scheme runs on (generic/logh.hpp): H = T(p) - U(q) with p = q' (the momentum of L),
+  // T = |p|^2/2, U = 1/|q|, and the force -f(t) q' = -f(t) p. tests/logh.test.cpp holds each to L and the force.
+  template <class S>
+  S kinetic(const Vec<S, 2>& p) const {
+    return p.squaredNorm() / 2;
+  }
+  template <class S>
+  Vec<S, 2> kinetic_gradient(const Vec<S, 2>& p) const {
+    return p;
+  }
+  template <class S>
+  S attraction(const Vec<S, 2>& q) const {
+    using std::sqrt;
+    return 1 / sqrt(q.squaredNorm());
+  }
+  // grad ln U = -q/|q|^2: the logH kick needs no square root.
+  template <class S>
+  Vec<S, 2> log_attraction_gradient(const Vec<S, 2>& q) const {
+    return -q / q.squaredNorm();
+  }
+  // int_{t0}^{t1} f: alpha (t1 - t0) + (a/theta)(cos theta t0 - cos theta t1) (the cosines only where a != 0).
+  double damping_integral(double t0, double t1) const {
+    const double periodic = (a != 0 && theta != 0) ? a / theta * (std::cos(theta * t0) - std::cos(theta * t1)) : 0.0;
+    return alpha * (t1 - t0) + periodic;
+  }
+
+  // Whether f is a constant (a = 0 or theta = 0), and which: the logH drift then has an exact flow.
+  bool constant_damping(double& gamma) const {
+    if (a != 0 && theta != 0) return false;
+    gamma = alpha;  // f = alpha + a sin(0) where theta = 0
+    return true;
+  }
+
   // The exact angular momentum law, M(t) / M(0) (for the tests and the studies' structural measures).
   double angular_momentum_factor(double t) const {
     return std::exp(-alpha * t - (theta != 0 ? a / theta * (1 - std::cos(theta * t)) : 0.0));
