@@ -24,10 +24,10 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
-#include "geomint/constants.hpp"
 
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/modified/automatic_registry.hpp"

@@ -8,9 +8,9 @@
 #include <limits>
 #include <string>
 #include <vector>
-#include "geomint/constants.hpp"
 
 #include "geomint/composition_registry.hpp"
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/study.hpp"

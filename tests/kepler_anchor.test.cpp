@@ -5,8 +5,8 @@
 #include <cmath>
 #include <map>
 #include <string>
-#include "geomint/constants.hpp"
 
+#include "geomint/constants.hpp"
 #include "geomint/kepler_anchor.hpp"
 
 using namespace geomint;

@@ -12,8 +12,7 @@
 #include <cmath>
 #include <vector>
 
-#include <boost/math/constants/constants.hpp>
-
+#include "geomint/constants.hpp"
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/generic/logh.hpp"
 #include "geomint/generic/system.hpp"
@@ -29,7 +28,6 @@ using V2 = Vec<double, 2>;
 
 namespace {
 
-const double kTwoPi = boost::math::constants::two_pi<double>();
 
 Kep kepler(double e, double alpha = 0, double a = 0) {
   Kep k;
@@ -68,7 +66,7 @@ Logh<Kep> started(const Kep& k, double h, const generic::CompositionFamily* f = 
 std::vector<double> output_times(double orbits, int per_orbit) {
   std::vector<double> t;
   const long n = std::lround(orbits * per_orbit);
-  for (long i = 1; i <= n; ++i) t.push_back(static_cast<double>(i) * kTwoPi / per_orbit);
+  for (long i = 1; i <= n; ++i) t.push_back(static_cast<double>(i) * two_pi / per_orbit);
   return t;
 }
 
@@ -129,7 +127,7 @@ TEST_CASE("logh on pure Kepler: energy and the Laplace–Runge–Lenz vector at 
   for (double e : {0.4, 0.9}) {
     for (int k : {32, 128, 512}) {
       const Kep kep = kepler(e);
-      Logh<Kep> s = started(kep, kTwoPi / k);
+      Logh<Kep> s = started(kep, two_pi / k);
       const Laws l0 = laws(s.state().q, s.state().p);
       double dE = 0, dA = 0, dM = 0;
       s.run_to(output_times(1000, 1), [&](std::size_t, const Logh<Kep>::State& x) {
@@ -163,12 +161,12 @@ TEST_CASE("logh on pure Kepler: the phase error's order in t is the method's", "
       for (int k : c.ks) {
         const Kep kep = kepler(e);
         const generic::CompositionFamily* f = *c.family ? &generic::find_composition_family(c.family) : nullptr;
-        Logh<Kep> s = started(kep, kTwoPi / k, f);
+        Logh<Kep> s = started(kep, two_pi / k, f);
         double err = 0;
         s.run_to(output_times(10, 8), [&](std::size_t, const Logh<Kep>::State& x) {
           err = std::max(err, (x.q - exact_position(e, x.t)).norm());
         });
-        hs.push_back(kTwoPi / k);
+        hs.push_back(two_pi / k);
         errs.push_back(err);
       }
       const auto fit = asymptotic_order(hs, errs, 0.25, 1e-12);
@@ -188,7 +186,7 @@ TEST_CASE("logh with friction: the angular-momentum law at round-off, and over t
     const Kep kep = kepler(e, 1e-3, a);
     auto worst = [&](FrictionOver over, int k, const char* fam) {
       const generic::CompositionFamily* f = *fam ? &generic::find_composition_family(fam) : nullptr;
-      Logh<Kep> s = started(kep, kTwoPi / k, f, over);
+      Logh<Kep> s = started(kep, two_pi / k, f, over);
       const double M0 = laws(s.state().q, s.state().p).M;
       double err = 0;
       s.run_to(output_times(100, 8), [&](std::size_t, const Logh<Kep>::State& x) {
@@ -213,7 +211,7 @@ TEST_CASE("logh with friction converges at order 2 (leapfrog) and 4 (yoshida4) t
   for (const double a : {-0.07, 0.0}) {
   const double e = 0.4, alpha = 1e-2;
   const SystemInfo& sys = find_system("kepler");
-  const double T = 3 * kTwoPi;
+  const double T = 3 * two_pi;
   const ParamValues pv{{"a", a}, {"alpha", alpha}, {"e", e}, {"T", T}};
   const long n_out = 24;
   const Reference ref = sys.reference(pv, T / n_out, n_out, ReferenceKind::odeint_rhs, 1e-13);
@@ -224,13 +222,13 @@ TEST_CASE("logh with friction converges at order 2 (leapfrog) and 4 (yoshida4) t
     for (int k : ks) {
       const Kep kep = kepler(e, alpha, a);
       const generic::CompositionFamily* f = *fam ? &generic::find_composition_family(fam) : nullptr;
-      Logh<Kep> s = started(kep, kTwoPi / k, f);
+      Logh<Kep> s = started(kep, two_pi / k, f);
       double err = 0;
       s.run_to(times, [&](std::size_t i, const Logh<Kep>::State& x) {
         const std::size_t r = 2 * (i + 1);
         err = std::max(err, std::hypot(x.q(0) - ref.q[r], x.q(1) - ref.q[r + 1]));
       });
-      hs.push_back(kTwoPi / k);
+      hs.push_back(two_pi / k);
       errs.push_back(err);
     }
     const auto fit = asymptotic_order(hs, errs, 0.25, 1e-10);

@@ -8,8 +8,8 @@
 
 #include <catch2/catch.hpp>
 #include <gsl/gsl_integration.h>
-#include "geomint/constants.hpp"
 
+#include "geomint/constants.hpp"
 #include "geomint/foucault_diagnostics.hpp"
 #include "geomint/generic/dual.hpp"
 #include "geomint/oscillator_structure.hpp"

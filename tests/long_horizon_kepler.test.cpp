@@ -3,8 +3,8 @@
 
 #include <cmath>
 #include <string>
-#include "geomint/constants.hpp"
 
+#include "geomint/constants.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
 #include "helpers.hpp"

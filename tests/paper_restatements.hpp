@@ -5,8 +5,8 @@
 #include <type_traits>
 
 #include <Eigen/Core>
-#include "geomint/constants.hpp"
 
+#include "geomint/constants.hpp"
 #include "geomint/systems/foucault.hpp"
 
 namespace geomint::testing {

@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "geomint/constants.hpp"
-
 #include "geomint/modified/series.hpp"
 
 using namespace geomint::modified;

@@ -6,9 +6,9 @@
 #include <array>
 #include <cmath>
 #include <vector>
-#include "geomint/constants.hpp"
 
 #include "generic_checks.hpp"
+#include "geomint/constants.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/systems/kepler.hpp"

@@ -24,9 +24,9 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_multifit.h>
-#include "geomint/constants.hpp"
 
 #include "geomint/cli.hpp"
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"

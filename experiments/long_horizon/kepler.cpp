@@ -31,11 +31,11 @@
 #include <cstdio>
 #include <functional>
 
-#include <boost/math/constants/constants.hpp>
 #include <boost/numeric/odeint.hpp>
 #include <gsl/gsl_errno.h>
 
 #include "geomint/budget.hpp"
+#include "geomint/constants.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
@@ -55,7 +55,6 @@ namespace odeint = boost::numeric::odeint;
 
 namespace {
 
-const double kTwoPi = boost::math::constants::two_pi<double>();
 using State = std::array<double, 4>;  // (q1, q2, q1', q2')
 
 // The structural quantities of a state: angular momentum, energy, direction of the Laplace–Runge–Lenz vector.
@@ -144,7 +143,7 @@ int long_horizon_kepler(int argc, char** argv) {
     std::vector<double> orbits{100, 300}, ks{32, 64, 128, 256}, tols{1e-6, 1e-8, 1e-10, 1e-12};
     std::vector<std::string> schemes{"la-trapezoid", "contact-trapezoid", "yoshida4:la-trapezoid",
                                      "yoshida6a:la-trapezoid", "kahanli8:la-trapezoid"};
-    double alpha = 1e-5, e = 0.4, a = 0, theta = kTwoPi, reference_tol = 1e-17;
+    double alpha = 1e-5, e = 0.4, a = 0, theta = two_pi, reference_tol = 1e-17;
     long outputs = 8;
     int reps = 3;
     Cli cli("long_horizon", "long-horizon structural error against CPU time and evaluations: Kepler with friction");
@@ -187,7 +186,7 @@ int long_horizon_kepler(int argc, char** argv) {
       else
         sys.scheme(s);
     auto values_for = [&](double P) {
-      return ParamValues{{"a", a}, {"theta", theta}, {"alpha", alpha}, {"e", e}, {"T", P * kTwoPi}};
+      return ParamValues{{"a", a}, {"theta", theta}, {"alpha", alpha}, {"e", e}, {"T", P * two_pi}};
     };
     for (double P : orbits) sys.validate(values_for(P));
     // Infeasible work refused before it starts: steps of the fixed-step methods (compositions count their stages)
@@ -205,7 +204,7 @@ int long_horizon_kepler(int argc, char** argv) {
     kep.theta = theta;
     kep.alpha = alpha;
     kep.e = e;
-    const double h_out = kTwoPi / static_cast<double>(outputs);
+    const double h_out = two_pi / static_cast<double>(outputs);
     const long n_out = std::lround(orbits.back() * static_cast<double>(outputs));
     std::vector<double> times(static_cast<std::size_t>(n_out + 1));
     for (long i = 0; i <= n_out; ++i) times[static_cast<std::size_t>(i)] = static_cast<double>(i) * h_out;
@@ -239,13 +238,13 @@ int long_horizon_kepler(int argc, char** argv) {
     for (double P : orbits) {
       std::fprintf(stderr, "long_horizon: %g orbits ...\n", P);
       const ParamValues pv = values_for(P);
-      const double T = P * kTwoPi;
+      const double T = P * two_pi;
       const std::vector<double> grid(times.begin(), times.begin() + std::lround(P * double(outputs)) + 1);
       auto context = [&](const std::string& m, const char* knob, double v) {
         return m + ", " + show(P) + " orbits, " + knob + " = " + show(v);
       };
       for (double k : ks) {
-        const double h = kTwoPi / k;
+        const double h = two_pi / k;
         const long N = step_count(h, T), stride = std::lround(k) / outputs;
         for (const auto& name : schemes) {
           double n_eval = 0;

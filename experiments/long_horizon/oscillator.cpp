@@ -22,10 +22,10 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
-#include "geomint/constants.hpp"
 
 #include "geomint/budget.hpp"
 #include "geomint/cli.hpp"
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/registry.hpp"

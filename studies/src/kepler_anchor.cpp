@@ -5,10 +5,10 @@
 #include <cmath>
 #include <limits>
 
-#include "geomint/constants.hpp"
 #include <boost/numeric/odeint.hpp>
 
 #include "geomint/budget.hpp"
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/registry.hpp"

@@ -19,8 +19,7 @@
 // equations the core derives from L (cross-checked against rhs below, and against Kepler's equation at a = 0).
 #include <cmath>
 
-#include <boost/math/constants/constants.hpp>
-
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/system.hpp"
 
@@ -34,7 +33,7 @@ struct KeplerT {
   static constexpr int dof = 2;
   static constexpr int constraints = 0;
 
-  P a = -0.07, theta = boost::math::constants::two_pi<double>(), alpha = 0, e = 0.4, T = 10;
+  P a = -0.07, theta = geomint::two_pi, alpha = 0, e = 0.4, T = 10;
 
   template <class V>
   void visit(V&& v) {
