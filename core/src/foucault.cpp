@@ -1,11 +1,11 @@
 // The out-of-line parts of the Foucault pendulum's systems (core/include/geomint/systems/foucault.hpp).
-#include "geomint/constants.hpp"
 #include "geomint/systems/foucault.hpp"
 
 #include <cmath>
 
 #include <gsl/gsl_fit.h>
 
+#include "geomint/constants.hpp"
 #include "geomint/io.hpp"
 #include "geomint/reference.hpp"
 

@@ -1,11 +1,11 @@
 // The nonholonomic benchmark suite: its problems, their exact observables and invariants (nonholonomic_suite.hpp).
 // Each closed form is derived in python/tests/test_nonholonomic_exact.py from the system file's L, rows and force.
-#include "geomint/constants.hpp"
 #include "geomint/nonholonomic_suite.hpp"
 
 #include <cmath>
 #include <filesystem>
 
+#include "geomint/constants.hpp"
 #include "geomint/error.hpp"
 #include "geomint/formula/formula_registry.hpp"
 #include "geomint/generic/system.hpp"
