@@ -201,7 +201,36 @@ class Formulas {
 
 }  // namespace
 
+// The parameter table of a time-transformed model's physical model (its numbers, the parameters it shares with
+// the extended model, its derived values).
+std::vector<double> physical_table(const FormulaModel& M, const std::vector<double>& pv) {
+  const FormulaModel& P = *M.physical;
+  std::vector<double> out(P.numbers);
+  for (const auto& p : P.parameters)
+    out.push_back(pv[static_cast<std::size_t>(M.parameter_offset() + M.parameter_index(p.name))]);
+  out.resize(static_cast<std::size_t>(P.table_size()));
+  std::vector<const double*> in(static_cast<std::size_t>(P.derived_offset()));
+  for (std::size_t i = 0; i < in.size(); ++i) in[i] = &out[i];
+  std::vector<double> derived(P.prelude.size());
+  P.prelude.eval_duals<double, 0>(nullptr, in.data(), out.data(), derived.data());
+  std::copy(derived.begin(), derived.end(), out.begin() + P.derived_offset());
+  return out;
+}
+
 void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
+  if (M.time_transformed) {
+    // The physical system's refusals first, in its own terms; then the monitor at the initial data.
+    validate_model(*M.physical, physical_table(M, pv));
+    const Formulas F(M, pv);
+    const std::vector<double> x0 = F.constants(M.initial);
+    const double g0 = x0[static_cast<std::size_t>(2 * M.n - 1)];
+    const int ik = M.parameter_index(time_transform_kappa);
+    const double kappa = pv[static_cast<std::size_t>(M.parameter_offset() + ik)];
+    require(std::isfinite(g0) && g0 > 0, M.time_transform_at.place() + ": time_transform: the monitor g = dt/dsigma is " +
+                                             show(g0) + " at the initial data: it must be positive (time runs forward)");
+    require(std::isfinite(kappa) && kappa > 0, M.parameters[static_cast<std::size_t>(ik)].where.place() + ": " +
+                                                   time_transform_kappa + " must be positive, got " + show(kappa));
+  }
   const Formulas F(M, pv);
   const int n = M.n, o = M.parameter_offset();
   // Each refusal names the system and where the parameter is declared: the value may come from the file or from a
@@ -292,6 +321,9 @@ void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
 // min(T, 1): they only have to pass through the region the motion visits.
 std::string herglotz_mismatch(const FormulaModel& M, const std::vector<double>& pv) {
   if (!M.has_herglotz()) return "";
+  // The extended forms agree where w = 0 only (the t-rows balance E with and without z differently off it): the
+  // physical forms are what the user wrote.
+  if (M.time_transformed) return herglotz_mismatch(*M.physical, physical_table(M, pv));
   const Formulas F(M, pv);
   const int n = M.n;
   const double T = pv[static_cast<std::size_t>(M.parameter_offset() + M.parameter_index("T"))];
