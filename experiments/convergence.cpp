@@ -58,8 +58,7 @@ int time_transform_convergence(const std::shared_ptr<const formula::FormulaModel
   cols.insert(cols.end(), swept.begin(), swept.end());
   cols.insert(cols.end(), {"h", "steps", "sigma_end", "err_t", "order", "w_max", "order_w"});
   TsvWriter tsv(dir / (stem + ".tsv"), "convergence", params, cols);
-  std::printf("%s with dt = g dsigma: error at t = T against Odeint on the physical system
-", model->name.c_str());
+  std::printf("%s with dt = g dsigma: error at t = T against Odeint on the physical system\n", model->name.c_str());
   for (const auto& pv : combos) {
     ParamValues phys;
     for (const auto& [k, x] : pv)
@@ -90,9 +89,7 @@ int time_transform_convergence(const std::shared_ptr<const formula::FormulaModel
       }
       const AsymptoticOrder fit = asymptotic_order(hs, err, 0.1, 1e3 * tol);
       const AsymptoticOrder fit_w = asymptotic_order(hs, w, 0.1, 1e-14);
-      std::printf("  %-20s error in t: %s
-  %-20s |w|:        %s
-", s.c_str(), fit.describe().c_str(), "", fit_w.describe().c_str());
+      std::printf("  %-20s error in t: %s\n  %-20s |w|:        %s\n", s.c_str(), fit.describe().c_str(), "", fit_w.describe().c_str());
     }
   }
   tsv.commit();
