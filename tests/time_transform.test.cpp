@@ -136,7 +136,8 @@ TEST_CASE("the extended system starts on w = 0 with t' = g0 and keeps the physic
   REQUIRE(model->time_transformed);
   REQUIRE(model->n == 2);
   const auto info = formula::formula_system_info(model);
-  const Run r = info->run({{"p0", 0.5}, {"T", 0.1}}, "la-midpoint", 0.1, Path::generic, 1);
+  const formula::PhysicalRun pr = formula::run_to_physical_time(*info, *model, {{"p0", 0.5}}, "la-midpoint", 0.05, 0.5, Path::generic);
+  const Run& r = pr.run;
   // Q(0) = (q0, 0), Q'(0) = (v0 g0, g0) with q0 = 1: g0 = 2/(1 + 1) = 1
   CHECK(r.q[0] == 1.0);
   CHECK(r.q[1] == 0.0);
@@ -145,6 +146,8 @@ TEST_CASE("the extended system starts on w = 0 with t' = g0 and keeps the physic
   // the energy column is the pendulum's, v^2/2 + 1 - cos q
   CHECK(r.energy[0] == Approx(0.125 + 1 - std::cos(1.0)).epsilon(1e-14));
   CHECK(formula::time_transform_residual(*model, {}, 0, {1.0, 0.0}, {0.5, 1.0}) == Approx(0.0).margin(1e-15));
+  CHECK(pr.residual < 1e-3);
+  CHECK(pr.end.sigma > 0.5);  // g <= 2/(1 + q^2) < 1 after the start: more sigma than t
   CHECK(formula::time_transform_residual(*model, {{"tt_kappa", 3}}, 0, {1.0, 0.0}, {0.5, 1.5}) == Approx(1.5).epsilon(1e-14));
 }
 

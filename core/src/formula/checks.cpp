@@ -7,6 +7,7 @@
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 
 #include "geomint/error.hpp"
+#include "geomint/formula/time_transform.hpp"
 
 namespace geomint::formula {
 
@@ -398,6 +399,37 @@ ContinuousAcceleration continuous_acceleration(const FormulaModel& model, const 
   const Formulas F(model, pv);
   return F.acceleration(t, Eigen::Map<const VectorXd>(q.data(), model.n), Eigen::Map<const VectorXd>(v.data(), model.n),
                         z, herglotz);
+}
+
+}  // namespace geomint::formula
+
+namespace geomint::formula {
+
+// Declared in time_transform.hpp (only its users need it): the velocities of a run of a time-transformed model
+// from its momenta, by Newton's method on dL/dQ' = p started from the previous step's velocity (the first from the
+// exact Q'(0)), and its energy column from them. The extended Lagrangian's Legendre map is one-to-one only near the
+// motion (t' > 0, w small): a start at Q' = p (p_t = -E < 0) lands on another root.
+void time_transform_velocities(const FormulaModel& M, const std::vector<double>& pv, Run& run) {
+  const Formulas F(M, pv);
+  const int n = M.n;
+  const std::size_t rows = run.t.size();
+  const std::vector<double> x0 = F.constants(M.initial);
+  VectorXd v = Eigen::Map<const VectorXd>(x0.data() + n, n);
+  for (std::size_t j = 0; j < rows; ++j) {
+    const double t = run.t[j];
+    const VectorXd q = Eigen::Map<const VectorXd>(run.q.data() + j * static_cast<std::size_t>(n), n);
+    const VectorXd p = Eigen::Map<const VectorXd>(run.p.data() + j * static_cast<std::size_t>(n), n);
+    const double z = run.contact && j < run.z.size() ? run.z[j] : 0.0;
+    for (int it = 0; it < 30; ++it) {
+      const auto H = run.contact ? F.second(M.herglotz, t, q, v, z, true) : F.second(M.lagrangian, t, q, v, 0, false);
+      const VectorXd r = H.grad.segment(1 + n, n) - p;
+      const VectorXd dv = H.hess.block(1 + n, 1 + n, n, n).partialPivLu().solve(r);
+      v -= dv;
+      if (!(dv.lpNorm<Eigen::Infinity>() > 4e-16 * (v.lpNorm<Eigen::Infinity>() + 1e-300))) break;
+    }
+    for (int i = 0; i < n; ++i) run.v[j * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)] = v(i);
+    if (j < run.energy.size()) run.energy[j] = F.values(M.energy, t, q, v, 0)[0];
+  }
 }
 
 }  // namespace geomint::formula

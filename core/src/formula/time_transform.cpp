@@ -125,6 +125,7 @@ PhysicalRun run_to_physical_time(const SystemInfo& info, const FormulaModel& mod
     out.run = info.run(with_T, scheme, h, path, 1);
     const int N = model.n;
     if (out.run.q[out.run.q.size() - 1] >= t_end || attempt == 20) {
+      time_transform_velocities(model, table, out.run);
       out.sigma_horizon = static_cast<double>(steps) * h;
       out.end = at_physical_time(out.run, N - 1, t_end);
       for (std::size_t j = 0; j < out.run.t.size(); ++j)

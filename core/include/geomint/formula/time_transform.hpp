@@ -39,6 +39,14 @@ struct PhysicalRun {
 PhysicalRun run_to_physical_time(const SystemInfo& info, const FormulaModel& model, ParamValues pv,
                                  const std::string& scheme, double h, double t_end, Path path);
 
+// The velocities Q'_j of a run of a time-transformed model from its momenta p_j (and its energy column from them):
+// Newton's method on dLbar/dQ' = p started from the previous step's Q' (the first from the exact Q'(0)). The
+// extended Lagrangian's Legendre map is one-to-one only near the motion (t' > 0, w small); the registry's run
+// starts its Newton at Q' = p, where p_t = -E < 0, and can land on another root: its v and energy columns of a
+// time-transformed model are not to be read (run_to_physical_time replaces them with these). `pv`: the tapes'
+// parameter table.
+void time_transform_velocities(const FormulaModel& model, const std::vector<double>& pv, Run& run);
+
 // w = kappa (t' - g) at (sigma, Q, Q') at the parameter values `pv` (the model's defaults elsewhere).
 double time_transform_residual(const FormulaModel& model, const ParamValues& pv, double sigma, const std::vector<double>& Q,
                                const std::vector<double>& Qv);
