@@ -22,9 +22,11 @@ def test_the_time_is_the_last_coordinate_and_the_energy_the_physical_one():
     assert t[0] == 0 and np.all(np.diff(t) > 0)
     # dt/dsigma = g = 1/(1 + q^2) <= 1: less physical time than sigma
     assert 0.2 * 5 < t[-1] < 5
-    # the energy and velocity columns of a run in sigma come from the core's Legendre inversion, not read here
-    # (docs/time-transformation.md); the positions are the scheme's
-    assert np.all(np.isfinite(r["q"]))
+    # Q'(0) = (v0 g0, g0) = (0.25, 0.5), and the energy column is the pendulum's, kept to O(h^2) without damping
+    assert abs(r["v"][0, 0] - 0.25) < 1e-12 and abs(r["v"][0, 1] - 0.5) < 1e-12
+    e = r["energy"]
+    assert abs(e[0] - (0.125 + 1 - np.cos(1.0))) < 1e-14
+    assert np.max(np.abs(e - e[0])) < 1e-3
 
 def test_define_system_takes_a_monitor_and_refuses_a_bad_one_with_its_place():
     kw = dict(L="v1^2/2 - q1^2/2", parameters={"T": 5}, initial_q=[1], initial_v=[0])

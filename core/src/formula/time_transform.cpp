@@ -8,9 +8,6 @@
 
 namespace geomint::formula {
 
-namespace {
-
-// The tapes' parameter table (numbers | parameters | derived values) at `pv`, the defaults elsewhere.
 std::vector<double> parameter_table(const FormulaModel& M, const ParamValues& pv) {
   std::vector<double> out(M.numbers);
   for (const auto& p : M.parameters) {
@@ -27,6 +24,8 @@ std::vector<double> parameter_table(const FormulaModel& M, const ParamValues& pv
   std::copy(derived.begin(), derived.end(), out.begin() + M.derived_offset());
   return out;
 }
+
+namespace {
 
 double residual_at(const FormulaModel& M, const std::vector<double>& table, double sigma, const double* Q, const double* Qv) {
   const int N = M.n;
@@ -125,7 +124,6 @@ PhysicalRun run_to_physical_time(const SystemInfo& info, const FormulaModel& mod
     out.run = info.run(with_T, scheme, h, path, 1);
     const int N = model.n;
     if (out.run.q[out.run.q.size() - 1] >= t_end || attempt == 20) {
-      time_transform_velocities(model, table, out.run);
       out.sigma_horizon = static_cast<double>(steps) * h;
       out.end = at_physical_time(out.run, N - 1, t_end);
       for (std::size_t j = 0; j < out.run.t.size(); ++j)

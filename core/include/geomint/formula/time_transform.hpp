@@ -43,9 +43,12 @@ PhysicalRun run_to_physical_time(const SystemInfo& info, const FormulaModel& mod
 // Newton's method on dLbar/dQ' = p started from the previous step's Q' (the first from the exact Q'(0)). The
 // extended Lagrangian's Legendre map is one-to-one only near the motion (t' > 0, w small); the registry's run
 // starts its Newton at Q' = p, where p_t = -E < 0, and can land on another root: its v and energy columns of a
-// time-transformed model are not to be read (run_to_physical_time replaces them with these). `pv`: the tapes'
-// parameter table.
+// time-transformed model would not be right: the registry entry of such a model (formula_registry.hpp) replaces
+// them with these. `pv`: the tapes' parameter table.
 void time_transform_velocities(const FormulaModel& model, const std::vector<double>& pv, Run& run);
+
+// The tapes' parameter table (numbers | parameters | derived values) of `model` at `pv`, its defaults elsewhere.
+std::vector<double> parameter_table(const FormulaModel& model, const ParamValues& pv);
 
 // w = kappa (t' - g) at (sigma, Q, Q') at the parameter values `pv` (the model's defaults elsewhere).
 double time_transform_residual(const FormulaModel& model, const ParamValues& pv, double sigma, const std::vector<double>& Q,
