@@ -83,6 +83,7 @@ bool has_system_arg(int argc, char** argv) {
 struct LoadedSystem {
   std::shared_ptr<const SystemInfo> info;
   std::string path;
+  std::string time_transform;  // the monitor g (the command line's, or the file's), "" for none
 };
 std::vector<LoadedSystem>& loaded_systems() {
   static std::vector<LoadedSystem> loaded;
@@ -94,7 +95,7 @@ const SystemInfo& system_from_file(const std::string& path, const std::string& t
   formula::SystemDescription d = formula::read_system_file(path);
   if (!time_transform.empty()) d.time_transform = formula::formula_text(time_transform, "--time-transform");
   auto info = formula::formula_system_info(formula::compile_model(d));
-  loaded_systems().push_back({info, path});
+  loaded_systems().push_back({info, path, d.time_transform.text});
   return *info;
 }
 }  // namespace
@@ -174,8 +175,11 @@ ParamValues SystemOptions::values() const {
 std::vector<std::pair<std::string, std::string>> SystemOptions::header() const {
   std::vector<std::pair<std::string, std::string>> out{{"system", system_->name}};
   for (const auto& l : loaded_systems())
-    if (l.info.get() == system_) out.emplace_back("system_file", l.path);
-  if (!time_transform_.empty()) out.emplace_back("time_transform", time_transform_);
+    if (l.info.get() == system_) {
+      out.emplace_back("system_file", l.path);
+      if (!l.time_transform.empty())
+        out.emplace_back("time_transform", "dt = g dsigma, g = " + l.time_transform + " (the time t is the last coordinate)");
+    }
   for (std::size_t i = 0; i < given_.size(); ++i)
     out.emplace_back(system_->params[i].name,
                      given_[i].empty() ? format_number(system_->params[i].value) : format_list(given_[i]));
