@@ -15,6 +15,7 @@
 #include "geomint/formula/time_transform.hpp"
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/modified/formula_modified.hpp"
+#include "helpers.hpp"
 
 using namespace geomint;
 
@@ -91,7 +92,7 @@ void check_orders(const std::string& name, const std::string& g, const ParamValu
 
 }  // namespace
 
-TEST_CASE("time-transformed LA schemes converge at their order in t: pendulum, Duffing, knife edge", "[time_transform]") {
+TEST_CASE("time-transformed LA schemes converge at their order in t on the pendulum and the Duffing and knife-edge systems", "[time_transform]") {
   check_orders("pendulum", "1/sqrt(1 + v1*v1)", {{"p0", 0.5}}, "la", 1, 0.05, 4);
   check_orders("pendulum", "1/sqrt(1 + v1*v1)", {{"p0", 0.5}}, "la-midpoint", 2, 0.1, 4);
   check_orders("duffing", "1/(1 + q1*q1)", {}, "la", 1, 0.05, 4);
@@ -169,4 +170,22 @@ TEST_CASE("bad monitors are refused naming their place", "[time_transform][error
   CHECK_THAT(message("pendulum", "1 + z"), Catch::Contains("depends on z"));
   CHECK_THAT(message("pendulum", "1", {{"tt_kappa", 0}}), Catch::Contains("tt_kappa must be positive"));
   CHECK_THAT(message("rolling-disk", "1"), Catch::Contains("a system of at most 3 coordinates can be transformed"));
+}
+
+TEST_CASE("the programs refuse a time transformation they cannot build and compare at t = T", "[time_transform][errors]") {
+  const std::string file = std::string(GEOMINT_SOURCE_DIR) + "/docs/systems/pendulum.geomint";
+  testing::check_rejected("integrate", "--system pendulum --time-transform 1", "--time-transform needs a system given by its formulas");
+  testing::check_rejected("integrate", "--system-file " + file + " --time-transform=", "--time-transform is given an empty formula");
+  testing::check_rejected("integrate", "--system-file " + file + " --time-transform v1",
+                          "the monitor g = dt/dsigma is 0 at the initial data");
+  // convergence with a monitor: the error at the physical time T, and the table says so
+  const auto dir = testing::fresh_dir("tt-convergence");
+  const auto r = testing::run_program("convergence", "--system-file " + file + " --time-transform '1/(1 + q1*q1)' --T 2 --schemes la-midpoint "
+                                      "--h-max 0.05 --h-min 0.02 --out " + dir.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string tsv = testing::read_bytes(dir / "pendulum_time_transform.tsv");
+  CHECK(tsv.find("# time_transform: dt = g dsigma, g = 1/(1 + q1*q1)") != std::string::npos);
+  CHECK(tsv.find("# error: max_i |q_i(t = T) - q_ref,i(T)|: the state at the physical time T by cubic Hermite") != std::string::npos);
+  std::filesystem::remove_all(dir);
 }
