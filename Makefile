@@ -110,6 +110,7 @@ test: build
 # generic step against the closed forms; seconds to derive the modified equations as formulas, and to build a surrogate
 # (and its step against the base's); a composition step
 # against its stages alone; systems written as formulas against the same systems as headers (Google Benchmark);
+# a time-transformed step against the untransformed one;
 # a million steps called from Python against the same registry call timed in C++ (timings: never part of make test).
 bench: build
 	@mkdir -p $(OUT)
@@ -126,6 +127,8 @@ bench: build
 	@$(BUILD)/experiments/bench_compose --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_formula --systems docs/systems --out $(OUT)
+	@echo
+	@$(BUILD)/experiments/bench_time_transform --systems docs/systems --out $(OUT)
 	@echo
 	@PYTHONPATH=$(BUILD)/python /usr/bin/python3 experiments/bench_python.py
 

@@ -569,7 +569,8 @@ py::dict surrogate_info(const System& s) {
 System define_system(const std::string& name, int coordinates, const py::object& L, const py::object& herglotz,
                      const py::object& force, const py::object& energy, const py::object& constraints, bool holonomic,
                      const py::dict& parameters, const py::dict& definitions, const py::object& initial_q,
-                     const py::object& initial_v, const std::string& description, bool strict_herglotz) {
+                     const py::object& initial_v, const std::string& description, bool strict_herglotz,
+                     const py::object& time_transform) {
   formula::SystemDescription d;
   d.name = name;
   d.description = description;
@@ -600,15 +601,18 @@ System define_system(const std::string& name, int coordinates, const py::object&
   d.constraints = formula_list(constraints, holonomic ? "g" : "phi");
   d.initial_q = formula_list(initial_q, "q");
   d.initial_v = formula_list(initial_v, "v");
+  if (!time_transform.is_none()) d.time_transform = formula_of(time_transform, "time_transform");
   formula::CompileOptions options;
   options.strict_herglotz = strict_herglotz;
   return System(formula::compile_model(d, options));
 }
 
-System load_system(const std::string& path, bool strict_herglotz) {
+System load_system(const std::string& path, bool strict_herglotz, const py::object& time_transform) {
   formula::CompileOptions options;
   options.strict_herglotz = strict_herglotz;
-  return System(formula::load_system_file(path, options));
+  formula::SystemDescription d = formula::read_system_file(path);
+  if (!time_transform.is_none()) d.time_transform = formula_of(time_transform, "time_transform");
+  return System(formula::compile_model(d, options));
 }
 
 // C++ timing of the same registry call as integrate (nothing converted to numpy): the bench's floor.
@@ -792,16 +796,18 @@ PYBIND11_MODULE(_geomint, m) {
 
   m.def("system", [](const std::string& name) { return System(find_system(name)); }, py::arg("name"),
         "a system of the registry by name");
-  m.def("load_system", &load_system, py::arg("path"), py::arg("strict_herglotz") = false,
-        "a system from a .geomint file (docs/systems/README.md)");
+  m.def("load_system", &load_system, py::arg("path"), py::arg("strict_herglotz") = false, py::arg("time_transform") = py::none(),
+        "a system from a .geomint file (docs/systems/README.md); time_transform: a monitor g (formula in t, q1.., v1..) "
+        "in place of the file's, dt = g dsigma (docs/time-transformation.md)");
   m.def("define_system", &define_system, py::arg("name"), py::arg("coordinates"), py::arg("L"), py::arg("herglotz") = py::none(),
         py::arg("force") = py::none(), py::arg("energy") = py::none(), py::arg("constraints") = py::none(),
         py::arg("holonomic") = false, py::arg("parameters") = py::dict(), py::arg("definitions") = py::dict(),
         py::arg("initial_q") = py::none(), py::arg("initial_v") = py::none(), py::arg("description") = "",
-        py::arg("strict_herglotz") = false,
+        py::arg("strict_herglotz") = false, py::arg("time_transform") = py::none(),
         "a system from its formulas (strings; numbers for constants): the Lagrangian L, the Herglotz Lagrangian, the "
         "force (n formulas), the constraint rows (phi: linear in v1..vn; or holonomic g), parameters {name: value or "
-        "(value, doc)} with T the horizon, definitions, and the initial q and v");
+        "(value, doc)} with T the horizon, definitions, the initial q and v, and a time transformation dt = g dsigma "
+        "(time_transform = g, a formula in t, q1.., v1..: the system steps in sigma with the time t as coordinate n + 1)");
   m.def("_seconds_of_run", &seconds_of_run, py::arg("system"), py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(),
         py::arg("path") = "fast", py::arg("every") = 1, py::arg("reps") = 5,
         "median seconds of the registry's run timed in C++ (the bench's reference for integrate called from Python)");

@@ -395,7 +395,8 @@ TEST_CASE("every system file in docs/systems loads into the shape of its formula
                                      {"double-pendulum", 2, 0, false},   {"knife-edge", 3, 1, false},
                                      {"particle", 3, 1, false},          {"foucault", 2, 1, false},
                                      {"foucault-rotation", 2, 1, true},  {"rolling-disk", 4, 2, false},
-                                     {"double-pendulum-cartesian", 4, 2, true}, {"chaplygin-sleigh", 3, 1, false}};
+                                     {"double-pendulum-cartesian", 4, 2, true}, {"chaplygin-sleigh", 3, 1, false},
+                                     {"duffing", 1, 0, false}};
   for (const auto& s : shapes) {
     const auto m = formula::load_system_file(std::string(GEOMINT_SOURCE_DIR) + "/docs/systems/" + s.name + ".geomint");
     INFO(s.name);

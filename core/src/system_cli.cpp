@@ -53,6 +53,24 @@ std::string find_system_file_arg(int argc, char** argv) {
   return path;
 }
 
+// --time-transform G or --time-transform=G in argv ("" when absent; an empty G is refused like an empty path).
+std::string find_time_transform_arg(int argc, char** argv) {
+  std::string g;
+  bool given = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--time-transform") == 0 && i + 1 < argc) {
+      g = argv[i + 1];
+      given = true;
+    }
+    if (std::strncmp(argv[i], "--time-transform=", 17) == 0) {
+      g = argv[i] + 17;
+      given = true;
+    }
+  }
+  require(!given || !g.empty(), "--time-transform is given an empty formula: give the monitor g (dt = g dsigma), e.g. 1/(1 + v1^2)");
+  return g;
+}
+
 namespace {
 bool has_system_arg(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
@@ -65,15 +83,19 @@ bool has_system_arg(int argc, char** argv) {
 struct LoadedSystem {
   std::shared_ptr<const SystemInfo> info;
   std::string path;
+  std::string time_transform;  // the monitor g (the command line's, or the file's), "" for none
 };
 std::vector<LoadedSystem>& loaded_systems() {
   static std::vector<LoadedSystem> loaded;
   return loaded;
 }
 
-const SystemInfo& system_from_file(const std::string& path) {
-  auto info = formula::formula_system_info(formula::load_system_file(path));
-  loaded_systems().push_back({info, path});
+// A monitor from the command line takes the place of the file's time_transform.
+const SystemInfo& system_from_file(const std::string& path, const std::string& time_transform) {
+  formula::SystemDescription d = formula::read_system_file(path);
+  if (!time_transform.empty()) d.time_transform = formula::formula_text(time_transform, "--time-transform");
+  auto info = formula::formula_system_info(formula::compile_model(d));
+  loaded_systems().push_back({info, path, d.time_transform.text});
   return *info;
 }
 }  // namespace
@@ -81,11 +103,15 @@ const SystemInfo& system_from_file(const std::string& path) {
 SystemOptions::SystemOptions(Cli& cli, int argc, char** argv, const std::string& default_system, bool sweep)
     : sweep_(sweep) {
   const std::string file = find_system_file_arg(argc, argv);
+  time_transform_ = find_time_transform_arg(argc, argv);
   if (!file.empty()) {
     require(!has_system_arg(argc, argv), "give --system or --system-file, not both");
-    system_ = &system_from_file(file);
+    system_ = &system_from_file(file, time_transform_);
     file_ = file;
   } else {
+    // The transformation is built from a system's formulas: a header system has a formula twin in docs/systems.
+    require(time_transform_.empty(), "--time-transform needs a system given by its formulas: --system-file (the header "
+                                     "systems are written as formulas in docs/systems/*.geomint, e.g. pendulum.geomint)");
     system_ = &find_system(find_system_arg(argc, argv, default_system));
   }
   given_.resize(system_->params.size());
@@ -94,7 +120,10 @@ SystemOptions::SystemOptions(Cli& cli, int argc, char** argv, const std::string&
   cli.options.add_options()("system", po::value<std::string>()->default_value(default_system),
                             ("the system (" + known + ")").c_str())(
       "system-file", po::value<std::string>(),
-      "a system defined by its formulas (a .geomint file, docs/systems/README.md) instead of --system");
+      "a system defined by its formulas (a .geomint file, docs/systems/README.md) instead of --system")(
+      "time-transform", po::value<std::string>(),
+      "with --system-file: step in a fictitious time sigma, dt = g dsigma, g a formula in t, q1.., v1.. and the "
+      "parameters (e.g. 1/(1 + v1^2)); the system gets the time t as its last coordinate (docs/time-transformation.md)");
   // --help --system X: the system's schemes (what --scheme/--schemes take), then its parameters as options
   std::string caption = "Schemes of system '" + system_->name + "':";
   for (const auto& s : system_->schemes) caption += "\n  " + s.name + ": " + s.description();
@@ -146,7 +175,11 @@ ParamValues SystemOptions::values() const {
 std::vector<std::pair<std::string, std::string>> SystemOptions::header() const {
   std::vector<std::pair<std::string, std::string>> out{{"system", system_->name}};
   for (const auto& l : loaded_systems())
-    if (l.info.get() == system_) out.emplace_back("system_file", l.path);
+    if (l.info.get() == system_) {
+      out.emplace_back("system_file", l.path);
+      if (!l.time_transform.empty())
+        out.emplace_back("time_transform", "dt = g dsigma, g = " + l.time_transform + " (the time t is the last coordinate)");
+    }
   for (std::size_t i = 0; i < given_.size(); ++i)
     out.emplace_back(system_->params[i].name,
                      given_[i].empty() ? format_number(system_->params[i].value) : format_list(given_[i]));

@@ -34,6 +34,7 @@ class SystemOptions {
   const SystemInfo* system_ = nullptr;
   std::vector<std::vector<double>> given_;  // per parameter, in the system's order
   std::string file_;
+  std::string time_transform_;  // --time-transform, "" when absent
   bool sweep_;
 };
 
@@ -73,6 +74,7 @@ class SystemsOptions {
 // different study per system dispatches on. --system-file PATH likewise ("" when absent).
 std::string find_system_arg(int argc, char** argv, const std::string& fallback);
 std::string find_system_file_arg(int argc, char** argv);
+std::string find_time_transform_arg(int argc, char** argv);
 
 // The options of a study that runs a system's schemes beside Odeint baselines (work_precision, long_horizon), under
 // one name and text: --equations (ad | rhs), --path (fast | generic), --norm (max | 2), --reps; values as given.

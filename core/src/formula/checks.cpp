@@ -7,6 +7,7 @@
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
 
 #include "geomint/error.hpp"
+#include "geomint/formula/time_transform.hpp"
 
 namespace geomint::formula {
 
@@ -201,7 +202,36 @@ class Formulas {
 
 }  // namespace
 
+// The parameter table of a time-transformed model's physical model (its numbers, the parameters it shares with
+// the extended model, its derived values).
+std::vector<double> physical_table(const FormulaModel& M, const std::vector<double>& pv) {
+  const FormulaModel& P = *M.physical;
+  std::vector<double> out(P.numbers);
+  for (const auto& p : P.parameters)
+    out.push_back(pv[static_cast<std::size_t>(M.parameter_offset() + M.parameter_index(p.name))]);
+  out.resize(static_cast<std::size_t>(P.table_size()));
+  std::vector<const double*> in(static_cast<std::size_t>(P.derived_offset()));
+  for (std::size_t i = 0; i < in.size(); ++i) in[i] = &out[i];
+  std::vector<double> derived(P.prelude.size());
+  P.prelude.eval_duals<double, 0>(nullptr, in.data(), out.data(), derived.data());
+  std::copy(derived.begin(), derived.end(), out.begin() + P.derived_offset());
+  return out;
+}
+
 void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
+  if (M.time_transformed) {
+    // The physical system's refusals first, in its own terms; then the monitor at the initial data.
+    validate_model(*M.physical, physical_table(M, pv));
+    const Formulas F(M, pv);
+    const std::vector<double> x0 = F.constants(M.initial);
+    const double g0 = x0[static_cast<std::size_t>(2 * M.n - 1)];
+    const int ik = M.parameter_index(time_transform_kappa);
+    const double kappa = pv[static_cast<std::size_t>(M.parameter_offset() + ik)];
+    require(std::isfinite(g0) && g0 > 0, M.time_transform_at.place() + ": time_transform: the monitor g = dt/dsigma is " +
+                                             show(g0) + " at the initial data: it must be positive (time runs forward)");
+    require(std::isfinite(kappa) && kappa > 0, M.parameters[static_cast<std::size_t>(ik)].where.place() + ": " +
+                                                   time_transform_kappa + " must be positive, got " + show(kappa));
+  }
   const Formulas F(M, pv);
   const int n = M.n, o = M.parameter_offset();
   // Each refusal names the system and where the parameter is declared: the value may come from the file or from a
@@ -292,6 +322,9 @@ void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
 // min(T, 1): they only have to pass through the region the motion visits.
 std::string herglotz_mismatch(const FormulaModel& M, const std::vector<double>& pv) {
   if (!M.has_herglotz()) return "";
+  // The extended forms agree where w = 0 only (the t-rows balance E with and without z differently off it): the
+  // physical forms are what the user wrote.
+  if (M.time_transformed) return herglotz_mismatch(*M.physical, physical_table(M, pv));
   const Formulas F(M, pv);
   const int n = M.n;
   const double T = pv[static_cast<std::size_t>(M.parameter_offset() + M.parameter_index("T"))];
@@ -366,6 +399,37 @@ ContinuousAcceleration continuous_acceleration(const FormulaModel& model, const 
   const Formulas F(model, pv);
   return F.acceleration(t, Eigen::Map<const VectorXd>(q.data(), model.n), Eigen::Map<const VectorXd>(v.data(), model.n),
                         z, herglotz);
+}
+
+}  // namespace geomint::formula
+
+namespace geomint::formula {
+
+// Declared in time_transform.hpp (only its users need it): the velocities of a run of a time-transformed model
+// from its momenta, by Newton's method on dL/dQ' = p started from the previous step's velocity (the first from the
+// exact Q'(0)), and its energy column from them. The extended Lagrangian's Legendre map is one-to-one only near the
+// motion (t' > 0, w small): a start at Q' = p (p_t = -E < 0) lands on another root.
+void time_transform_velocities(const FormulaModel& M, const std::vector<double>& pv, Run& run) {
+  const Formulas F(M, pv);
+  const int n = M.n;
+  const std::size_t rows = run.t.size();
+  const std::vector<double> x0 = F.constants(M.initial);
+  VectorXd v = Eigen::Map<const VectorXd>(x0.data() + n, n);
+  for (std::size_t j = 0; j < rows; ++j) {
+    const double t = run.t[j];
+    const VectorXd q = Eigen::Map<const VectorXd>(run.q.data() + j * static_cast<std::size_t>(n), n);
+    const VectorXd p = Eigen::Map<const VectorXd>(run.p.data() + j * static_cast<std::size_t>(n), n);
+    const double z = run.contact && j < run.z.size() ? run.z[j] : 0.0;
+    for (int it = 0; it < 30; ++it) {
+      const auto H = run.contact ? F.second(M.herglotz, t, q, v, z, true) : F.second(M.lagrangian, t, q, v, 0, false);
+      const VectorXd r = H.grad.segment(1 + n, n) - p;
+      const VectorXd dv = H.hess.block(1 + n, 1 + n, n, n).partialPivLu().solve(r);
+      v -= dv;
+      if (!(dv.lpNorm<Eigen::Infinity>() > 4e-16 * (v.lpNorm<Eigen::Infinity>() + 1e-300))) break;
+    }
+    for (int i = 0; i < n; ++i) run.v[j * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)] = v(i);
+    if (j < run.energy.size()) run.energy[j] = F.values(M.energy, t, q, v, 0)[0];
+  }
 }
 
 }  // namespace geomint::formula

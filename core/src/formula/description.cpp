@@ -159,8 +159,10 @@ class Reader {
         }
         if (n <= 0) fail("coordinates must be a positive integer, got '" + f.text + "'", f.where.column);
         d_.coordinates = n;
+      } else if (key == "time_transform") {
+        d_.time_transform = f;
       } else {
-        fail("unknown key '" + key + "' in [system] (keys: name, description, coordinates)");
+        fail("unknown key '" + key + "' in [system] (keys: name, description, coordinates, time_transform)");
       }
     } else if (section_ == "parameters") {
       if (is_program_option_name(key))

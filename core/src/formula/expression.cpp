@@ -281,6 +281,53 @@ int Expressions::derivative(int id, int slot) {
   return d;
 }
 
+int Expressions::substitute(int id, const std::vector<int>& by) {
+  std::uint32_t bits = 0;
+  for (std::size_t s = 0; s < by.size(); ++s)
+    if (by[s] >= 0) bits |= vars_.bit(static_cast<int>(s));
+  std::unordered_map<int, int> memo;
+  auto go = [&](auto&& self, int e) -> int {
+    const Node x = (*this)[e];
+    if (!(x.uses & bits)) return e;
+    const auto it = memo.find(e);
+    if (it != memo.end()) return it->second;
+    int r = -1;
+    switch (x.kind) {
+      case Kind::number:
+      case Kind::param:
+        r = e;
+        break;
+      case Kind::var:
+        r = by[static_cast<std::size_t>(x.index)];
+        break;
+      case Kind::neg:
+        r = neg(self(self, x.a));
+        break;
+      case Kind::add:
+        r = add(self(self, x.a), self(self, x.b));
+        break;
+      case Kind::sub:
+        r = sub(self(self, x.a), self(self, x.b));
+        break;
+      case Kind::mul:
+        r = mul(self(self, x.a), self(self, x.b));
+        break;
+      case Kind::div:
+        r = div(self(self, x.a), self(self, x.b));
+        break;
+      case Kind::pow:
+        r = pow(self(self, x.a), self(self, x.b));
+        break;
+      case Kind::call:
+        r = call(x.fn, self(self, x.a), x.b >= 0 ? self(self, x.b) : -1);
+        break;
+    }
+    memo.emplace(e, r);
+    return r;
+  };
+  return go(go, id);
+}
+
 int Expressions::substitute_zero(int id, std::uint32_t bits) {
   std::unordered_map<int, int> memo;
   auto go = [&](auto&& self, int e) -> int {

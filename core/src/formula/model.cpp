@@ -76,26 +76,38 @@ struct Scope {
 
 class ModelCompiler {
  public:
-  ModelCompiler(const SystemDescription& d, const CompileOptions& options) : d_(d), ex_(check_coordinates(d)) {
+  ModelCompiler(const SystemDescription& d, const CompileOptions& options)
+      : d_(d), tt_(d.time_transform.given()), ex_(check_coordinates(d)), np_(d.coordinates) {
     model_ = std::make_shared<FormulaModel>();
     model_->strict_herglotz = options.strict_herglotz;
   }
 
-  std::shared_ptr<const FormulaModel> run() {
+  std::shared_ptr<const FormulaModel> run(const CompileOptions& options) {
     FormulaModel& M = *model_;
+    if (tt_) {
+      // The physical system first: its errors are the file's, and the Herglotz check runs on it (checks.cpp).
+      SystemDescription physical = d_;
+      physical.time_transform = FormulaText{};
+      M.physical = compile_model(physical, options);
+      M.description = d_.description;
+    }
     const Variables& V = ex_.variables();
-    const int n = V.n;
+    // n: the system's coordinates as its formulas name them; N: the model's (n + 1 with a time transformation,
+    // whose coordinate N is the time t and whose velocity N is t' = dt/dsigma).
+    const int n = np_, N = V.n;
     M.name = d_.name;
     M.description = d_.description;
     M.origin = d_.origin;
-    M.n = n;
+    M.n = N;
+    M.physical_n = n;
+    M.time_transformed = tt_;
     M.m = static_cast<int>(d_.constraints.size());
     M.holonomic = d_.constraint_kind == ConstraintKind::holonomic && M.m > 0;
     printable_description();
     check_name();
-    if (!supported_shape(n, M.m))
-      whole(std::to_string(M.m) + " constraint row" + (M.m == 1 ? "" : "s") + " with " + std::to_string(n) +
-            " coordinate" + (n == 1 ? "" : "s") + ": formula systems have at most " + std::to_string(max_constraints) +
+    if (!supported_shape(N, M.m))
+      whole(std::to_string(M.m) + " constraint row" + (M.m == 1 ? "" : "s") + " with " + std::to_string(N) +
+            " coordinate" + (N == 1 ? "" : "s") + (tt_ ? " (the time transformation adds t)" : "") + ": formula systems have at most " + std::to_string(max_constraints) +
             " rows, and fewer rows than coordinates");
 
     parameters();
@@ -103,7 +115,7 @@ class ModelCompiler {
 
     // The dynamics.
     require_given(d_.lagrangian, "L", "the Lagrangian 'L = ...'");
-    const int L = parse(d_.lagrangian, "L", Scope{false, false, defs_.size()});
+    int L = parse(d_.lagrangian, "L", Scope{false, false, defs_.size()});
     forbid(L, V.bit(V.z()), d_.lagrangian, "L", "depends on z: the Herglotz Lagrangian is written herglotz = ...");
     lagrangian_ = L;
     M.lagrangian_at = d_.lagrangian.where;
@@ -139,9 +151,11 @@ class ModelCompiler {
       M.constraint_at.push_back(f.where);
       bool any = false;
       if (M.holonomic) {
+        // With a time transformation t is the coordinate q_N: the loop over the N coordinates takes dg/dt as the
+        // row's last column, and b = dg/dsigma = 0.
         forbid(row, V.v_bits(), f, what, "depends on the velocities: a holonomic constraint g(t, q) is a function of t and q (a row linear in the velocities is written phi" + std::to_string(r + 1) + " = ...)");
         g.push_back(row);
-        for (int k = 0; k < n; ++k) {
+        for (int k = 0; k < N; ++k) {
           A.push_back(at(f, what, [&] { return ex_.derivative(row, V.q(k)); }));
           any = any || !ex_.is_number(A.back(), 0);
         }
@@ -159,6 +173,11 @@ class ModelCompiler {
         }
         b.push_back(at(f, what, [&] { return ex_.substitute_zero(row, V.v_bits()); }));
         if (!any) fail_at(f, what, "has no velocity in it: a constraint on the positions is written as a holonomic row g" + std::to_string(r + 1) + " = ...");
+        if (tt_) {
+          // A(t, q) q'/t' + b(t, q) = 0 is A q' + b t' = 0: b is the coefficient of t', the offset zero.
+          A.push_back(b.back());
+          b.back() = ex_.number(0);
+        }
       }
     }
 
@@ -190,7 +209,7 @@ class ModelCompiler {
       if (M.holonomic)
         for (int a : A)
           if ((ex_[a].uses & V.q_bits()) != 0) linear = false;
-      M.linear_dynamics = linear;
+      M.linear_dynamics = linear && !tt_;
     }
 
     // The initial data.
@@ -210,7 +229,10 @@ class ModelCompiler {
       }
     }
 
+    if (tt_) transform(L, H, E, F, init);
+
     // atan2 only of constants: the series type of the modified equations has no atan2.
+    if (tt_) no_state_atan2(L, d_.time_transform, "time_transform");
     no_state_atan2(L, d_.lagrangian, "L");
     if (H >= 0) no_state_atan2(H, d_.herglotz, "herglotz");
     if (E >= 0) no_state_atan2(E, d_.energy, "E");
@@ -218,7 +240,7 @@ class ModelCompiler {
     for (int r = 0; r < M.m; ++r) {
       const std::string what = (M.holonomic ? "g" : "phi") + std::to_string(r + 1);
       const FormulaText& f = d_.constraints[static_cast<std::size_t>(r)];
-      for (int k = 0; k < n; ++k) no_state_atan2(A[static_cast<std::size_t>(r * n + k)], f, what);
+      for (int k = 0; k < N; ++k) no_state_atan2(A[static_cast<std::size_t>(r * N + k)], f, what);
       no_state_atan2(b[static_cast<std::size_t>(r)], f, what);
     }
 
@@ -238,14 +260,15 @@ class ModelCompiler {
       return t;
     };
     M.lagrangian = state({L}, d_.lagrangian.where, "L");
+    if (tt_) M.residual = state({residual_}, d_.time_transform.where, "time_transform");
     if (H >= 0) M.herglotz = state({H}, d_.herglotz.where, "herglotz");
     if (E >= 0) M.energy = state({E}, d_.energy.where, "E");
     if (!F.empty()) M.force = state(F, d_.force[0].where, "F");
     if (M.m > 0) {
       const Where& w = d_.constraints[0].where;
       std::vector<int> A_columns;  // Eigen's layout: column-major
-      for (int k = 0; k < n; ++k)
-        for (int r = 0; r < M.m; ++r) A_columns.push_back(A[static_cast<std::size_t>(r * n + k)]);
+      for (int k = 0; k < N; ++k)
+        for (int r = 0; r < M.m; ++r) A_columns.push_back(A[static_cast<std::size_t>(r * N + k)]);
       M.constraint_matrix = state(A_columns, w, "the constraint rows");
       M.constraint_offset = state(b, w, "the constraint rows");
       if (M.holonomic) M.holonomic_g = state(g, w, "the constraint rows");
@@ -284,7 +307,82 @@ class ModelCompiler {
     if (n < 1 || n > max_coordinates)
       throw InputError(d.origin.source + ": coordinates = " + std::to_string(n) + ": formula systems have 1 to " +
                        std::to_string(max_coordinates) + " coordinates");
-    return n;
+    if (d.time_transform.given() && n + 1 > max_coordinates)
+      throw InputError(d.time_transform.where.place() + ": time_transform: the transformed system has the time as coordinate " +
+                       std::to_string(n + 1) + ", and formula systems have at most " + std::to_string(max_coordinates) +
+                       " coordinates (a system of at most " + std::to_string(max_coordinates - 1) + " coordinates can be transformed)");
+    return d.time_transform.given() ? n + 1 : n;
+  }
+
+  // dt = g dsigma (docs/time-transformation.md). With Q = (q, t), Q' = dQ/dsigma and the physical velocity
+  // v = q'/t', the extended system in sigma is
+  //   Lbar(Q, Q') = t' L(t, q, v) + (kappa/2)(t' - g(t, q, v))^2   (the Herglotz form likewise, with z),
+  //   Fbar = (t' F(t, q, v), -F . q'),  rows [A | b] Q' = 0,
+  // whose solution from Q'(0) = (v0 g0, g0) is the physical motion at t(sigma), with w = kappa (t' - g) = 0.
+  // Every formula was parsed with t as the graph's coordinate N and v_i as its velocity i; here v_i becomes
+  // v_i / v_N in L, the Herglotz form, F, E and g.
+  void transform(int& L, int& H, int& E, std::vector<int>& F, std::vector<int>& init) {
+    const Variables& V = ex_.variables();
+    const int n = np_, N = V.n;
+    const FormulaText& gt = d_.time_transform;
+    const std::string what = "time_transform";
+    model_->time_transform_at = gt.where;
+    const int g = parse(gt, what, Scope{false, false, defs_.size()});
+    forbid(g, V.bit(V.z()), gt, what, "depends on z: the monitor g is a function of t, q and v");
+    no_state_atan2(g, gt, what);
+    const int tp = ex_.var(V.v(N - 1));
+    std::vector<int> by(static_cast<std::size_t>(V.count()), -1);
+    for (int i = 0; i < n; ++i) by[static_cast<std::size_t>(V.v(i))] = ex_.div(ex_.var(V.v(i)), tp);
+    auto physical = [&](int e, const FormulaText& f, const std::string& name) {
+      return at(f, name, [&] { return ex_.substitute(e, by); });
+    };
+    // The physical energy v . L_v - L (the extended Lagrangian's own energy is w t' - w^2/(2 kappa), zero on
+    // the exact flow): the energy column stays the system's.
+    if (E < 0)
+      E = at(d_.lagrangian, "L", [&] {
+        int sum = -1;
+        for (int i = 0; i < n; ++i) {
+          const int term = ex_.mul(ex_.var(V.v(i)), ex_.derivative(L, V.v(i)));
+          sum = sum < 0 ? term : ex_.add(sum, term);
+        }
+        return ex_.sub(sum, L);
+      });
+    E = physical(E, d_.energy.given() ? d_.energy : d_.lagrangian, d_.energy.given() ? "E" : "L");
+    const int gs = physical(g, gt, what);
+    const int kappa = ex_.param(model_->parameter_index(time_transform_kappa));
+    const int gap = ex_.sub(tp, gs);
+    residual_ = ex_.mul(kappa, gap);
+    const int penalty = ex_.div(ex_.mul(residual_, gap), ex_.number(2, "2"));
+    L = ex_.add(ex_.mul(tp, physical(L, d_.lagrangian, "L")), penalty);
+    if (H >= 0) H = ex_.add(ex_.mul(tp, physical(H, d_.herglotz, "herglotz")), penalty);
+    if (!F.empty()) {
+      int power = -1;
+      for (int i = 0; i < n; ++i) {
+        const std::string name = "F" + std::to_string(i + 1);
+        const int f = physical(F[static_cast<std::size_t>(i)], d_.force[static_cast<std::size_t>(i)], name);
+        const int term = ex_.mul(f, ex_.var(V.v(i)));
+        power = power < 0 ? term : ex_.add(power, term);
+        F[static_cast<std::size_t>(i)] = ex_.mul(tp, f);
+      }
+      // The force does no work in the extended space: Fbar . Q' = 0 (its power is the t-row's -F . q').
+      F.push_back(ex_.neg(power));
+    }
+    // Q(0) = (q0, 0), Q'(0) = (v0 g0, g0) with g0 = g(0, q0, v0).
+    std::vector<int> at0(static_cast<std::size_t>(V.count()), -1);
+    at0[static_cast<std::size_t>(V.q(N - 1))] = ex_.number(0);
+    for (int i = 0; i < n; ++i) {
+      at0[static_cast<std::size_t>(V.q(i))] = init[static_cast<std::size_t>(i)];
+      at0[static_cast<std::size_t>(V.v(i))] = init[static_cast<std::size_t>(n + i)];
+    }
+    const int g0 = at(gt, what, [&] { return ex_.substitute(g, at0); });
+    std::vector<int> out;
+    for (int i = 0; i < n; ++i) out.push_back(init[static_cast<std::size_t>(i)]);
+    out.push_back(ex_.number(0));
+    for (int i = 0; i < n; ++i) out.push_back(ex_.mul(init[static_cast<std::size_t>(n + i)], g0));
+    out.push_back(g0);
+    init = out;
+    model_->initial_at.insert(model_->initial_at.begin() + n, gt.where);
+    model_->initial_at.push_back(gt.where);
   }
 
   [[noreturn]] void whole(const std::string& what) const { throw InputError(d_.origin.source + ": " + what); }
@@ -330,6 +428,7 @@ class ModelCompiler {
     formula(d_.lagrangian, "L");
     formula(d_.herglotz, "herglotz");
     formula(d_.energy, "E");
+    formula(d_.time_transform, "time_transform");
     for (const auto& f : d_.force) formula(f, "F");
     for (const auto& f : d_.constraints) formula(f, "constraint");
     for (const auto& f : d_.initial_q) formula(f, "initial q");
@@ -350,7 +449,7 @@ class ModelCompiler {
   // Names a formula cannot take: the variables, pi, L, E and the functions.
   std::string reserved(const std::string& name) const {
     int k = 0;
-    const int n = ex_.variables().n;
+    const int n = np_;
     if (name == "t" || name == "z") return "is a variable (t: time, z: the Herglotz action)";
     if (name == "pi") return "is the number pi";
     if (name == "L" || name == "E") return "names the " + std::string(name == "L" ? "Lagrangian" : "energy");
@@ -377,6 +476,13 @@ class ModelCompiler {
       M.parameters.push_back({p.name, v, p.doc, p.value.where});
     }
     if (M.parameter_index("T") < 0) whole("no parameter T (the horizon): add 'T = ...' to [parameters]");
+    if (tt_) {
+      const FormulaText& gt = d_.time_transform;
+      if (M.parameter_index(time_transform_kappa) >= 0)
+        fail_at(gt, "time_transform", std::string("adds the parameter ") + time_transform_kappa +
+                                          " (the stiffness of its penalty), which the system has already: rename the system's");
+      M.parameters.push_back({time_transform_kappa, 1.0, "stiffness kappa of the time transformation's penalty (kappa/2)(t' - g)^2", gt.where});
+    }
   }
 
   void definitions() {
@@ -409,11 +515,11 @@ class ModelCompiler {
     if (name == "pi") return ex_.number(pi, "pi");
     if (scope.numbers_only)
       throw ParseError(column, "a parameter's default is a number (or a formula of numbers and pi), not '" + name + "'");
-    if (name == "t") return ex_.var(V.t());
+    if (name == "t") return ex_.var(tt_ ? V.q(V.n - 1) : V.t());
     if (name == "z") return ex_.var(V.z());
     int k = 0;
-    if (coordinate_name(name, 'q', k) && k <= V.n) return ex_.var(V.q(k - 1));
-    if (coordinate_name(name, 'v', k) && k <= V.n) return ex_.var(V.v(k - 1));
+    if (coordinate_name(name, 'q', k) && k <= np_) return ex_.var(V.q(k - 1));
+    if (coordinate_name(name, 'v', k) && k <= np_) return ex_.var(V.v(k - 1));
     if (name == "L" && scope.lagrangian) return lagrangian_;
     for (std::size_t i = 0; i < scope.definitions; ++i)
       if (defs_[i].name == name) return defs_[i].node;
@@ -421,8 +527,8 @@ class ModelCompiler {
     if (p >= 0) return ex_.param(p);
     // unknown: say why as precisely as we can
     if ((coordinate_name(name, 'q', k) || coordinate_name(name, 'v', k)))
-      throw ParseError(column, "'" + name + "': the system has " + std::to_string(V.n) + " coordinate" + (V.n == 1 ? "" : "s") +
-                                   " (q1..q" + std::to_string(V.n) + ", v1..v" + std::to_string(V.n) + ")");
+      throw ParseError(column, "'" + name + "': the system has " + std::to_string(np_) + " coordinate" + (np_ == 1 ? "" : "s") +
+                                   " (q1..q" + std::to_string(np_) + ", v1..v" + std::to_string(np_) + ")");
     if (name == "L") throw ParseError(column, "L (the Lagrangian) can be used in herglotz, E and F only");
     for (const auto& def : d_.definitions)
       if (def.name == name)
@@ -476,7 +582,10 @@ class ModelCompiler {
   }
 
   const SystemDescription& d_;
+  bool tt_;  // a time transformation: the graph has the time as coordinate np_ + 1
   Expressions ex_;
+  int np_;   // the coordinates the system's formulas name
+  int residual_ = -1;
   std::shared_ptr<FormulaModel> model_;
   std::vector<Definition> defs_;
   int lagrangian_ = -1;
@@ -485,7 +594,7 @@ class ModelCompiler {
 }  // namespace
 
 std::shared_ptr<const FormulaModel> compile_model(const SystemDescription& description, const CompileOptions& options) {
-  return ModelCompiler(description, options).run();
+  return ModelCompiler(description, options).run(options);
 }
 
 std::shared_ptr<const FormulaModel> load_system_file(const std::filesystem::path& path, const CompileOptions& options) {

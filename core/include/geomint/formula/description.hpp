@@ -3,7 +3,7 @@
 // filled in memory by a program (the Python module). model.hpp compiles it.
 //
 // The system file format is documented, with examples, in docs/systems/README.md: sections [system] (name,
-// description, coordinates), [parameters] (name = default  # doc), [definitions], [dynamics] (L, herglotz, F1..Fn,
+// description, coordinates, time_transform), [parameters] (name = default  # doc), [definitions], [dynamics] (L, herglotz, F1..Fn,
 // E), [constraints] (phi1.. rows linear in the velocities, or g1.. holonomic rows), [initial] (q1..qn, v1..vn);
 // one `key = formula` per line, '#' comments.
 #include <cstdint>
@@ -58,6 +58,10 @@ struct SystemDescription {
   ConstraintKind constraint_kind = ConstraintKind::velocity;
   std::vector<FormulaText> constraints;  // Phi_i (velocity) or g_i (holonomic)
   std::vector<FormulaText> initial_q, initial_v;
+  // A time transformation dt = g dsigma (docs/time-transformation.md): the monitor g, a formula in t, q1..qn,
+  // v1..vn and the parameters, or empty for none. Given, the model is the extended system in the fictitious time
+  // sigma with n + 1 coordinates (q, t), built from the formulas above.
+  FormulaText time_transform;
 };
 
 // The largest system file read (a formula file is a few kilobytes).

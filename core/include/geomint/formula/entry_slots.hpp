@@ -7,11 +7,14 @@
 #include <cstddef>
 #include <memory>
 #include <mutex>
+#include <tuple>
+#include <type_traits>
 #include <utility>
 
 #include "geomint/error.hpp"
 #include "geomint/formula/formula_registry.hpp"
 #include "geomint/formula/formula_call.hpp"
+#include "geomint/formula/time_transform.hpp"
 
 namespace geomint::formula {
 
@@ -63,7 +66,15 @@ class EntrySlots {
     static R call(A... a) {
       const Slot& s = slots()[K];  // a live entry's slot: not written while the entry lives
       const FormulaCall call(s.model);
-      return (s.shape->*Member)(std::forward<A>(a)...);
+      if constexpr (std::is_same_v<R, Run>) {
+        // A time-transformed model's velocities (and energies) from its momenta, by Newton from the previous row's
+        // (time_transform.hpp): the core's inversion starts at Q' = p and can land on another root.
+        R run = (s.shape->*Member)(std::forward<A>(a)...);
+        if (s.model->time_transformed) time_transform_velocities(*s.model, parameter_table(*s.model, std::get<0>(std::tie(a...))), run);
+        return run;
+      } else {
+        return (s.shape->*Member)(std::forward<A>(a)...);
+      }
     }
   };
   template <std::size_t K, auto Member, class Fp, class Owner>

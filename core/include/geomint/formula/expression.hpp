@@ -86,6 +86,9 @@ class Expressions {
   int derivative(int id, int slot);
   // The node with every variable in `bits` replaced by 0.
   int substitute_zero(int id, std::uint32_t bits);
+  // The node with every variable slot s for which by[s] >= 0 replaced by the node by[s] (a time transformation
+  // writes the physical velocity v_i as v_i / v_{n+1} and the time t as q_{n+1}).
+  int substitute(int id, const std::vector<int>& by);
 
  private:
   struct Key {

@@ -24,6 +24,8 @@ namespace geomint::formula {
 // The shapes formula systems come in: n coordinates, m constraint rows (velocity or holonomic).
 inline constexpr int max_coordinates = 4;
 inline constexpr int max_constraints = 2;
+// The parameter a time-transformed model adds: the stiffness kappa of its penalty (kappa/2)(t' - g)^2.
+inline constexpr const char* time_transform_kappa = "tt_kappa";
 constexpr bool supported_shape(int n, int m) { return n >= 1 && n <= max_coordinates && m >= 0 && m <= max_constraints && m < n; }
 
 struct CompileOptions {
@@ -80,6 +82,16 @@ class FormulaModel {
   // Places for messages.
   Where lagrangian_at, herglotz_at;
   std::vector<Where> constraint_at, initial_at;  // initial_at: q1..qn then v1..vn
+
+  // A time transformation dt = g dsigma (docs/time-transformation.md): the model is the extended system in sigma,
+  // n = physical_n + 1 coordinates (q, t), built from the physical formulas; `physical` is the physical model
+  // (the Herglotz check runs on it), `residual` the penalty multiplier w = kappa (t' - g), zero on the exact flow:
+  // its size along a discrete flow measures the error of the transformation.
+  bool time_transformed = false;
+  int physical_n = 0;
+  Where time_transform_at;
+  Tape residual;  // one output: w(sigma, Q, Q')
+  std::shared_ptr<const FormulaModel> physical;
 
   bool has_herglotz() const { return !herglotz.empty(); }
   bool has_force() const { return !force.empty(); }

@@ -12,7 +12,7 @@ inline constexpr std::string_view program_option_names[] = {
     // every program (Cli)
     "help", "out", "no-budget",
     // the system options (SystemOptions) and the baseline studies (add_baseline_study_options)
-    "system", "system-file", "systems", "equations", "path", "norm", "reps",
+    "system", "system-file", "time-transform", "systems", "equations", "path", "norm", "reps",
     // integrate, ensemble, convergence, regularized_error, work_precision, stability, long_horizon, modified_equation
     "h", "scheme", "schemes", "every", "perturb", "runs", "seed", "threads", "h-max", "h-min", "reference", "tol",
     "ref-factor", "shift", "trajectory", "adaptive-error", "baselines", "alpha-max", "alpha-min", "n", "horizons",
