@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
     const auto combos = sysopt.combinations();
     const auto swept = sysopt.swept();
     const auto schemes = sysopt.schemes(names);
+    sysopt.warn_contact(combos, schemes);
     const Path path = parse_path(path_name);
     const ReferenceKind ref_kind = parse_reference(ref_name);
     const ErrorNorm norm = parse_norm(norm_name);
