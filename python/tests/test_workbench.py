@@ -42,7 +42,7 @@ def no_warnings(call):
 def test_an_inconsistent_herglotz_form_warns_at_the_first_contact_run_only():
     sys_ = wrong_duffing()
     no_warnings(lambda: sys_.integrate("la", h=0.1))  # LA runs the force: nothing to say
-    with pytest.warns(geomint.GeomintWarning, match=r"define_system\(duffing-wrong\).*inconsistent with the force") as w:
+    with pytest.warns(geomint.GeomintWarning, match=r"^herglotz: the Herglotz Lagrangian is inconsistent with the force") as w:
         sys_.integrate("contact", h=0.1)
     assert issubclass(geomint.GeomintWarning, UserWarning)
     assert len(w) == 1
@@ -52,7 +52,7 @@ def test_an_inconsistent_herglotz_form_warns_at_the_first_contact_run_only():
     no_warnings(lambda: sys_.convergence(["contact-trapezoid"], h_max=0.1, h_min=0.05))
     # a new system of the same formulas is a new system: it warns again, also from a composition of a contact scheme
     with pytest.warns(geomint.GeomintWarning, match="inconsistent with the force"):
-        wrong_duffing().integrate("yoshida4:contact-midpoint", h=0.1)
+        wrong_duffing().integrate("yoshida4:contact-trapezoid", h=0.1)
 
 
 def test_a_consistent_herglotz_form_does_not_warn():
@@ -61,7 +61,7 @@ def test_a_consistent_herglotz_form_does_not_warn():
 
 
 def test_strict_herglotz_refuses_the_system_at_its_definition():
-    with pytest.raises(geomint.InputError, match=r"define_system\(duffing-wrong\).*inconsistent with the force"):
+    with pytest.raises(geomint.InputError, match=r"^herglotz: the Herglotz Lagrangian is inconsistent with the force"):
         wrong_duffing(strict_herglotz=True)
     # strict and consistent: defined, and runs
     ok = dict(WRONG, herglotz="L - alpha*z")
@@ -72,7 +72,7 @@ def test_strict_herglotz_refuses_the_system_at_its_definition():
 def test_a_strict_system_file_is_refused_when_loaded(tmp_path):
     path = tmp_path / "wrong.geomint"
     path.write_text(WRONG_FILE)
-    with pytest.raises(geomint.InputError, match=r"wrong.geomint:13:\d+: the Herglotz Lagrangian is inconsistent"):
+    with pytest.raises(geomint.InputError, match=r"wrong.geomint:13: the Herglotz Lagrangian is inconsistent"):
         geomint.load_system(str(path), strict_herglotz=True)
 
 
@@ -127,7 +127,10 @@ CHILD = textwrap.dedent("""\
         # about 1e8 generic Newton steps: far longer than the test waits
         "integrate": lambda: pendulum.integrate("la-midpoint", h=1e-5, params={"T": 1e3}, path="generic",
                                                 every=10**5),
-        "convergence": lambda: pendulum.convergence(["la"], h_max=1e-3, h_min=1e-5, params={"T": 1e3}),
+        # 1.5e6 steps of an eighth-order composition (17 Newton stages each) over four step sizes: about 3.5 s.
+        # (A reference on ~1e7 output times spends up to a second filling its arrays between interruption points.)
+        "convergence": lambda: pendulum.convergence(["kahanli8:la-midpoint"], h_max=1e-2, h_min=1.25e-3,
+                                                    params={"T": 1000}),
         "ensemble": lambda: pendulum.ensemble("la", {"alpha": 0.01}, runs=10**4, h=1e-3, params={"T": 1e2},
                                               threads=2),
         # one exact solve of order 2 is a minute of GiNaC
@@ -164,7 +167,7 @@ def test_ctrl_c_stops_a_long_call_within_a_second_and_the_interpreter_goes_on(tm
     delay = float(lines[0].split()[1]) - sent
     print("%s: KeyboardInterrupt %.3f s after SIGINT" % (what, delay))
     assert 0 <= delay < 1.0, delay
-    assert lines[1] == "after 100", (out, err)
+    assert lines[1] == "after 200", (out, err)
     assert child.returncode == 0, err
 
 
@@ -207,6 +210,6 @@ def test_a_progress_callback_that_raises_stops_the_call_with_its_error():
         geomint.system("pendulum").integrate("la-midpoint", h=1e-5, params={"T": 1e3}, path="generic", every=10**5,
                                              progress=stop)
     assert time.monotonic() - t0 < 1
-    assert geomint.system("pendulum").integrate("la", h=0.1)["steps"] == 100
+    assert geomint.system("pendulum").integrate("la", h=0.1)["steps"] == 200
     with pytest.raises(geomint.InputError, match="progress must be a callable"):
         geomint.system("pendulum").integrate("la", h=0.1, progress=3)
