@@ -119,6 +119,7 @@ int main(int argc, char** argv) {
     const auto combos = sysopt.combinations();
     const auto swept = sysopt.swept();
     const auto schemes = sysopt.schemes(names);
+    sysopt.warn_contact(combos, schemes);
     if (!sysopt.system_file().empty()) {
       formula::SystemDescription d = formula::read_system_file(sysopt.system_file());
       const std::string g = find_time_transform_arg(argc, argv);

@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
     require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
     plan_ensemble(sys, spec);
     const SchemeInfo& sc = sys.scheme(spec.scheme);
+    sysopt.warn_contact({spec.base}, {spec.scheme});
     const double T = sys.horizon(spec.base);
     const long N = step_count(h, T);
     const bool closed_form = spec.path == Path::fast && !sc.fast_path.empty();

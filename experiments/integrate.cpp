@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     require_positive(h, "h");
     const double T = sys.horizon(pv);
     plan_run(sys, sc.name, path, h, T, every);
+    sysopt.warn_contact({pv}, {sc.name});
     const long N = step_count(h, T);
     require(N / every <= 2000000, "the table would have " + std::to_string(N / every) +
                                       " rows (limit 2e6): raise --every");

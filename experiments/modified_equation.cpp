@@ -32,6 +32,7 @@
 #include "geomint/io.hpp"
 #include "geomint/formula/formula_registry.hpp"
 #include "geomint/modified/automatic_registry.hpp"
+#include "geomint/modified/bounded_formulas.hpp"
 #include "geomint/modified/formula_modified.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/system_cli.hpp"
@@ -173,13 +174,14 @@ int main(int argc, char** argv) {
         modified_scheme(info, s);
     }
     require(std::isfinite(budget) && budget > 0, "--budget must be a positive number of seconds");
+    sys_opts.warn_contact({pv}, schemes);
 
     // Compute everything before writing anything.
     std::vector<ModifiedPoint> points;
     for (const auto& s : schemes) points.push_back(ms.at(pv, s, K, t, q, v, z, true));
     std::vector<ModifiedFormulas> forms;
     if (formulas)
-      for (const auto& s : schemes) forms.push_back(ms.formulas(pv, s, K, budget));
+      for (const auto& s : schemes) forms.push_back(bounded_formulas(ms, pv, s, K, budget));  // the budget holds inside an order
 
     const auto dir = prepare_output_dir(cli.out);
     Params header = info.header(pv);

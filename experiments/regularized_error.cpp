@@ -83,6 +83,7 @@ int main(int argc, char** argv) {
     const auto combos = sysopt.combinations();
     const auto swept = sysopt.swept();
     const auto schemes = sysopt.schemes(names);
+    sysopt.warn_contact(combos, schemes);
     const Path path = parse_path(path_name);
     const int n = sys.dof;
     double cost = 1;  // of one step of every scheme and of the reference (at ref-factor steps a step), in cheap steps

@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
     const auto combos = sysopt.combinations();
     const auto swept = sysopt.swept();
     opt.schemes = sysopt.schemes(names);
+    sysopt.warn_contact(combos, opt.schemes);
     opt.hs = halving_sequence(h_max, h_min);
     opt.path = parse_path(path_name);
     opt.norm = parse_norm(norm_name);

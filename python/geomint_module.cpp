@@ -11,7 +11,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,9 +25,11 @@
 #include "geomint/parallel.hpp"
 #include "geomint/formula/formula_registry.hpp"
 #include "geomint/formula/model.hpp"
+#include "geomint/interrupt.hpp"
 #include "geomint/io.hpp"
 #include "geomint/modified/all_orders.hpp"
 #include "geomint/modified/automatic_registry.hpp"
+#include "geomint/modified/bounded_formulas.hpp"
 #include "geomint/modified/formula_modified.hpp"
 #include "geomint/modified/plan.hpp"
 #include "geomint/modified/surrogate.hpp"
@@ -119,6 +123,47 @@ class System {
   mutable std::shared_ptr<const modified::ModifiedSystem> modified_;
 };
 
+// geomint.GeomintWarning (a UserWarning), made when the module is imported.
+PyObject* geomint_warning = nullptr;
+
+// A Herglotz form inconsistent with the force, through Python's warnings before the first contact-family run of
+// the system (formula::contact_warnings: once per system), so that `integrate("contact")` cannot silently run a
+// different system. A filter that turns warnings into errors raises here, before the run.
+void warn_contact(const System& s, const std::vector<ParamValues>& values, const std::vector<std::string>& schemes) {
+  if (!s.is_formula()) return;
+  for (const auto& why : formula::contact_warnings(s.model(), s.info(), values, schemes))
+    if (PyErr_WarnEx(geomint_warning, one_line(why).c_str(), 1) != 0) throw py::error_already_set();
+}
+
+// f() with the GIL released, under a Watch (interrupt.hpp): its loops poll Python's pending signals every 0.1 s
+// (PyErr_CheckSignals on this, the main, thread), so Ctrl-C stops the call within a fraction of a second and raises
+// KeyboardInterrupt from Python's own handler; the call's outermost task is handed to `progress` (a callable
+// (fraction, message), or None). An exception the callback raises stops the call and is raised in its place.
+template <class F>
+auto watched(const py::object& progress, F&& f) -> decltype(f()) {
+  if (!progress.is_none()) require(PyCallable_Check(progress.ptr()) != 0, "progress must be a callable (fraction, message) or None");
+  std::function<void(double, const std::string&)> report;
+  if (!progress.is_none())
+    report = [&progress](double fraction, const std::string& line) {
+      py::gil_scoped_acquire gil;
+      progress(fraction, line);
+    };
+  Watch watch(
+      [] {
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        return false;
+      },
+      report);
+  try {
+    py::gil_scoped_release release;
+    return f();
+  } catch (const Interrupted&) {
+    watch.rethrow_if_stopped();
+    throw;
+  }
+}
+
 py::dict run_dict(const Run& run) {
   const long rows = static_cast<long>(run.t.size());
   py::dict d;
@@ -143,7 +188,7 @@ py::dict run_dict(const Run& run) {
 // it failed) and its failure message ("" where it reached T). Run k has the bits of integrate() from those values.
 py::dict ensemble(const System& s, const std::string& scheme, const py::dict& perturb, long runs, double h,
                   const py::dict& params, const std::string& path, unsigned long long seed, unsigned threads,
-                  bool budget) {
+                  bool budget, const py::object& progress) {
   const BudgetScope scope(budget);
   const SystemInfo& sys = s.info();
   EnsembleSpec spec;
@@ -157,11 +202,9 @@ py::dict ensemble(const System& s, const std::string& scheme, const py::dict& pe
   require(threads <= 256, "threads must be in [0, 256] (0: every core)");
   plan_ensemble(sys, spec, "runs");
   validate_ensemble(sys, spec);
-  std::vector<EnsembleRun> out;
-  {
-    py::gil_scoped_release release;
-    out = run_ensemble(sys, spec, 0, runs, threads == 0 ? default_threads() : threads);
-  }
+  warn_contact(s, {spec.base}, {spec.scheme});
+  const std::vector<EnsembleRun> out =
+      watched(progress, [&] { return run_ensemble(sys, spec, 0, runs, threads == 0 ? default_threads() : threads); });
   const long n = sys.dof, P = static_cast<long>(spec.perturb.size());
   const double nan = missing_value;  // a failed run has no final state (numpy shows nan)
   std::vector<double> values, q, v, z, e0, e, phi_d, newton;
@@ -205,7 +248,7 @@ ParamValues with_step(const System& s, ParamValues pv, double h) {
 }
 
 py::dict integrate(const System& s, const std::string& scheme, double h, const py::dict& params, const std::string& path,
-                   long every, bool budget) {
+                   long every, bool budget, const py::object& progress) {
   const BudgetScope scope(budget);
   const SystemInfo& sys = s.info();
   const ParamValues pv = with_step(s, param_values(params), h);
@@ -215,27 +258,21 @@ py::dict integrate(const System& s, const std::string& scheme, double h, const p
   const Path p = parse_path(path);
   // the run and its numpy copy are held together while the arrays are made
   plan_run(sys, sc.name, p, h, sys.horizon(pv), every, 2, "every");
-  Run run;
-  {
-    py::gil_scoped_release release;
-    run = sys.run(pv, scheme, h, p, every);
-  }
+  warn_contact(s, {pv}, {sc.name});
+  const Run run = watched(progress, [&] { return sys.run(pv, scheme, h, p, every); });
   require_finite_run(run, "system " + sys.name + ", scheme " + sc.name + " (" + to_string(p) + "), h = " + show(h));
   return run_dict(run);
 }
 
-py::dict reference(const System& s, double h, long N, const std::string& kind, double tol, const py::dict& params) {
+py::dict reference(const System& s, double h, long N, const std::string& kind, double tol, const py::dict& params,
+                   const py::object& progress) {
   const SystemInfo& sys = s.info();
   const ParamValues pv = param_values(params);
   require_positive(h, "h");
   const ReferenceKind k = parse_reference(kind);
   check_reference(sys, k, tol);
   if (N <= 0) N = step_count(h, sys.horizon(pv));
-  Reference ref;
-  {
-    py::gil_scoped_release release;
-    ref = sys.reference(pv, h, N, k, tol);
-  }
+  const Reference ref = watched(progress, [&] { return sys.reference(pv, h, N, k, tol); });
   std::vector<double> t(static_cast<std::size_t>(ref.N + 1));
   for (long j = 0; j <= ref.N; ++j) t[static_cast<std::size_t>(j)] = static_cast<double>(j) * ref.h;
   py::dict d;
@@ -255,7 +292,7 @@ std::vector<std::string> scheme_list(const SystemInfo& sys, const std::vector<st
 // system declares: the convergence program's study (convergence_study), as arrays.
 py::dict convergence(const System& s, const std::vector<std::string>& schemes_asked, double h_max, double h_min,
                      const py::dict& params, const std::string& path, const std::string& ref_name, double tol,
-                     const std::string& norm, bool budget) {
+                     const std::string& norm, bool budget, const py::object& progress) {
   const BudgetScope scope(budget);
   const SystemInfo& sys = s.info();
   const ParamValues pv = param_values(params);
@@ -268,11 +305,9 @@ py::dict convergence(const System& s, const std::vector<std::string>& schemes_as
   require_positive(h_min, "h_min");
   const auto hs = halving_sequence(h_max, h_min);
   plan_convergence(sys, {pv}, schemes, hs, p);
-  ConvergenceStudy study;
-  {
-    py::gil_scoped_release release;
-    study = convergence_study(sys, {pv}, schemes, hs, p, k, tol, Sweep::world(), en);
-  }
+  warn_contact(s, {pv}, schemes);
+  const ConvergenceStudy study =
+      watched(progress, [&] { return convergence_study(sys, {pv}, schemes, hs, p, k, tol, Sweep::world(), en); });
   const auto H = static_cast<long>(hs.size());
   py::dict err, observed, fitted, asymptotic, expected, points, failed, measures;
   for (const auto& m : study.measures) measures[py::str(m.name)] = py::dict();
@@ -320,7 +355,7 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
                         const py::dict& params, const std::string& path, int reps, const std::string& ref_name, double tol,
                         const std::vector<std::string>& baselines, const std::vector<double>& tols,
                         const std::string& equations, const std::string& adaptive_error, double relative_window,
-                        bool budget) {
+                        bool budget, const py::object& progress) {
   const BudgetScope scope(budget);  // check_work_precision plans the work
   const SystemInfo& sys = s.info();
   const ParamValues pv = param_values(params);
@@ -340,13 +375,10 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
   opt.at_steps = adaptive_error == "steps";
   opt.relative_window = relative_window;
   check_work_precision(sys, {pv}, opt);
+  warn_contact(s, {pv}, opt.schemes);
   // the study checks (and plans) again: from zero, or the plan would count twice
   const BudgetScope again(budget);
-  WorkPrecisionStudy study;
-  {
-    py::gil_scoped_release release;
-    study = work_precision_study(sys, {pv}, opt);
-  }
+  const WorkPrecisionStudy study = watched(progress, [&] { return work_precision_study(sys, {pv}, opt); });
   // per method, its points in the study's order (over h, or over tol)
   std::vector<std::string> methods;
   std::vector<std::vector<double>> value, error, seconds, relative;
@@ -398,18 +430,16 @@ std::vector<double> point_or_initial(const System& s, const ParamValues& pv, con
 }
 
 py::dict modified_equation(const System& s, const std::string& scheme, int K, double t, const std::vector<double>& q_in,
-                           const std::vector<double>& v_in, double z, const py::dict& params) {
+                           const std::vector<double>& v_in, double z, const py::dict& params,
+                           const py::object& progress) {
   const ParamValues pv = param_values(params);
   s.info().validate(pv);
   modified::modified_scheme(s.info(), scheme);
   const auto q = point_or_initial(s, pv, q_in, false), v = point_or_initial(s, pv, v_in, true);
   modified::require_finite_point(t, q, v, z);
+  warn_contact(s, {pv}, {scheme});
   const auto& ms = s.modified();
-  modified::ModifiedPoint r;
-  {
-    py::gil_scoped_release release;
-    r = ms.at(pv, scheme, K, t, q, v, z, true);
-  }
+  const modified::ModifiedPoint r = watched(progress, [&] { return ms.at(pv, scheme, K, t, q, v, z, true); });
   py::dict d;
   d["K"] = r.K;
   d["F"] = to_array(r.F, r.K + 1, r.n);
@@ -442,15 +472,23 @@ py::list formula_rows(const std::vector<Row>& rows) {
   return out;
 }
 
-py::dict modified_formulas(const System& s, const std::string& scheme, int K, double budget, const py::dict& params) {
+py::dict modified_formulas(const System& s, const std::string& scheme, int K, double budget, const py::dict& params,
+                           const py::object& progress) {
   const ParamValues pv = param_values(params);
   modified::formula_scheme(s.info(), scheme);
   require(std::isfinite(budget) && budget > 0, "budget must be a positive number of seconds");
+  warn_contact(s, {pv}, {scheme});
   const auto& ms = s.modified();
-  modified::ModifiedFormulas f;
-  {
-    py::gil_scoped_release release;
-    f = ms.formulas(pv, scheme, K, budget);
+  // in a child process, so that the budget holds inside an order (bounded_formulas.hpp)
+  const modified::ModifiedFormulas f =
+      watched(progress, [&] { return modified::bounded_formulas(ms, pv, scheme, K, budget); });
+  if (f.stopped) {
+    const std::string why =
+        "modified_formulas(" + scheme + ", order=" + std::to_string(K) + "): the budget of " + show(budget) +
+        " s ran out in order " + std::to_string(f.K + 1) +
+        (f.K >= 0 ? ": the formulas hold orders 0.." + std::to_string(f.K) : ": no order was finished (no rows)") +
+        " (raise budget= for more)";
+    if (PyErr_WarnEx(geomint_warning, why.c_str(), 1) != 0) throw py::error_already_set();
   }
   const py::list rows = formula_rows(f.rows);
   py::dict d;
@@ -477,19 +515,17 @@ py::dict all_orders(const System& s, const std::string& scheme, double h, const 
 }
 
 py::dict modified_agreement(const System& s, const std::string& scheme, int K, double h, double T, double tol,
-                            const py::dict& params, const std::string& start, bool budget) {
+                            const py::dict& params, const std::string& start, bool budget,
+                            const py::object& progress) {
   const BudgetScope scope(budget);
   const ParamValues pv = param_values(params);
   const auto st = modified::parse_agreement_start(start);
   modified::modified_scheme(s.info(), scheme);
   if (!(T > 0)) T = s.info().horizon(pv);
   modified::plan_agreement(s.info(), scheme, h, T);
+  warn_contact(s, {pv}, {scheme});
   const auto& ms = s.modified();
-  modified::ModifiedAgreement a;
-  {
-    py::gil_scoped_release release;
-    a = ms.agreement(pv, scheme, K, h, T, tol, st);
-  }
+  const modified::ModifiedAgreement a = watched(progress, [&] { return ms.agreement(pv, scheme, K, h, T, tol, st); });
   py::dict d;
   d["steps"] = a.steps;
   d["err_q"] = a.err_q;
@@ -566,6 +602,13 @@ py::dict surrogate_info(const System& s) {
   return d;
 }
 
+// A strict system is checked at its definition, at its default parameters: an inconsistent Herglotz form is an
+// InputError here, not at its first contact run (validate checks it again at each run's own values).
+System defined(System s, bool strict_herglotz) {
+  if (strict_herglotz) s.info().validate({});
+  return s;
+}
+
 System define_system(const std::string& name, int coordinates, const py::object& L, const py::object& herglotz,
                      const py::object& force, const py::object& energy, const py::object& constraints, bool holonomic,
                      const py::dict& parameters, const py::dict& definitions, const py::object& initial_q,
@@ -604,7 +647,7 @@ System define_system(const std::string& name, int coordinates, const py::object&
   if (!time_transform.is_none()) d.time_transform = formula_of(time_transform, "time_transform");
   formula::CompileOptions options;
   options.strict_herglotz = strict_herglotz;
-  return System(formula::compile_model(d, options));
+  return defined(System(formula::compile_model(d, options)), strict_herglotz);
 }
 
 System load_system(const std::string& path, bool strict_herglotz, const py::object& time_transform) {
@@ -612,7 +655,7 @@ System load_system(const std::string& path, bool strict_herglotz, const py::obje
   options.strict_herglotz = strict_herglotz;
   formula::SystemDescription d = formula::read_system_file(path);
   if (!time_transform.is_none()) d.time_transform = formula_of(time_transform, "time_transform");
-  return System(formula::compile_model(d, options));
+  return defined(System(formula::compile_model(d, options)), strict_herglotz);
 }
 
 // C++ timing of the same registry call as integrate (nothing converted to numpy): the bench's floor.
@@ -632,6 +675,12 @@ PYBIND11_MODULE(_geomint, m) {
 
   static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
   static py::exception<NumericalFailure> numerical_failure(m, "NumericalFailure", PyExc_ArithmeticError);
+  geomint_warning = PyErr_NewExceptionWithDoc("geomint.GeomintWarning",
+                                              "a result the module computed but doubts (a UserWarning): a Herglotz "
+                                              "form inconsistent with the force, a budget that cut an order short",
+                                              PyExc_UserWarning, nullptr);
+  if (geomint_warning == nullptr) throw py::error_already_set();
+  m.add_object("GeomintWarning", py::handle(geomint_warning));
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -644,6 +693,8 @@ PYBIND11_MODULE(_geomint, m) {
       PyErr_SetObject(numerical_failure.ptr(), err.ptr());
     } catch (const InputError& e) {
       input_error(one_line(e.what()).c_str());
+    } catch (const Interrupted&) {  // a watch's stop without a Python error of its own (watched() raises that one)
+      PyErr_SetNone(PyExc_KeyboardInterrupt);
     }
   });
 
@@ -735,7 +786,7 @@ PYBIND11_MODULE(_geomint, m) {
           "warnings", [](const System& s, const py::dict& params) { return s.warnings(param_values(params)); },
           py::arg("params") = py::dict(), "a formula system's Herglotz form against its force (empty when they agree)")
       .def("integrate", &integrate, py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(), py::arg("path") = "fast",
-           py::arg("every") = 1, py::arg("budget") = true,
+           py::arg("every") = 1, py::arg("budget") = true, py::arg("progress") = py::none(),
            "N = T/h steps of `scheme`, every `every`-th kept: {j, t, q, p, v, z, lambda, energy, phi_d, phi, newton} "
            "as arrays (q, p, v: rows x n; lambda: rows x m), and steps, newton_mean, max_phi_d; NumericalFailure "
            "(naming the step and t) where a kept state, energy or residual is not finite; budget=True refuses at "
@@ -743,17 +794,18 @@ PYBIND11_MODULE(_geomint, m) {
            "anyway) or whose kept rows exceed the memory available (raise every)")
       .def("ensemble", &ensemble, py::arg("scheme"), py::arg("perturb"), py::arg("runs") = 1000, py::arg("h") = 0.1,
            py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("seed") = 1, py::arg("threads") = 0,
-           py::arg("budget") = true,
+           py::arg("budget") = true, py::arg("progress") = py::none(),
            "budget=True (budget=False: run anyway) refuses at once runs x T/h steps beyond the time budget; "
            "runs from perturbed parameters, perturb = {name: spread} (run k: p + spread u, u uniform in [-1, 1) from "
            "(seed, k)), on `threads` threads (0: every core): {perturbed, values (runs x P), q, v (runs x n), z, "
            "energy0, energy, max_phi_d, newton_mean (NaN where a run failed), failure (messages, '' where it reached "
            "T), T}; run k has the bits of integrate() from its values")
       .def("reference", &reference, py::arg("h"), py::arg("N") = 0, py::arg("kind") = "auto", py::arg("tol") = 1e-13,
-           py::arg("params") = py::dict(), "the reference solution on t_j = j h (closed form, or Boost.Odeint)")
+           py::arg("params") = py::dict(), py::arg("progress") = py::none(),
+           "the reference solution on t_j = j h (closed form, or Boost.Odeint)")
       .def("convergence", &convergence, py::arg("schemes") = std::vector<std::string>{}, py::arg("h_max") = 0.1,
            py::arg("h_min") = 0.003, py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reference") = "auto",
-           py::arg("tol") = 1e-13, py::arg("norm") = "max", py::arg("budget") = true,
+           py::arg("tol") = 1e-13, py::arg("norm") = "max", py::arg("budget") = true, py::arg("progress") = py::none(),
            "max_j |q_j - q_ref(t_j)| against h (norm 'max' or '2'), observed, least-squares and asymptotic orders, and "
            "the system's measures {name: {scheme: array}}; budget=True (budget=False: run anyway) refuses at once a "
            "sweep beyond the time budget. Under mpiexec the runs are shared by the ranks and rank 0 alone gets the "
@@ -762,20 +814,23 @@ PYBIND11_MODULE(_geomint, m) {
            py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reps") = 3, py::arg("reference") = "auto",
            py::arg("tol") = 1e-13, py::arg("baselines") = std::vector<std::string>{},
            py::arg("tols") = std::vector<double>{}, py::arg("equations") = "ad", py::arg("adaptive_error") = "output",
-           py::arg("relative_window") = 0.0, py::arg("budget") = true,
+           py::arg("relative_window") = 0.0, py::arg("budget") = true, py::arg("progress") = py::none(),
            "budget=True (budget=False: run anyway) refuses at once a sweep beyond the time budget; error and median CPU seconds of one run, per method: the schemes against h, the baselines (odeint-rk4 over h; "
            "odeint-dopri5, odeint-bulirsch-stoer, gsl-rk8pd over tols) as the work_precision program runs them; with "
            "relative_window > 0 also relative_error, the error relative to the solution's size over that window as "
            "long_horizon measures it")
       .def("modified_equation", &modified_equation, py::arg("scheme"), py::arg("order") = 4, py::arg("t") = 0.0,
            py::arg("q") = std::vector<double>{}, py::arg("v") = std::vector<double>{}, py::arg("z") = 0.0,
-           py::arg("params") = py::dict(),
+           py::arg("params") = py::dict(), py::arg("progress") = py::none(),
            "q'' = sum_k h^k F_k at (t, q, q', z) (default: the initial data); also Z, mu, phi, the modified Lagrangian")
       .def("modified_formulas", &modified_formulas, py::arg("scheme"), py::arg("order") = 4, py::arg("budget") = 60.0,
-           py::arg("params") = py::dict(), "the modified equation as formulas (text, Mathematica, LaTeX), every parameter a symbol")
+           py::arg("params") = py::dict(), py::arg("progress") = py::none(),
+           "the modified equation as formulas (text, Mathematica, LaTeX), every parameter a symbol, derived in a "
+           "child process so that the budget (seconds) holds inside an order: when it runs out the call returns the "
+           "orders finished (K < K_asked, stopped) with a GeomintWarning naming the order reached")
       .def("modified_agreement", &modified_agreement, py::arg("scheme"), py::arg("order"), py::arg("h"), py::arg("T") = 0.0,
            py::arg("tol") = 1e-13, py::arg("params") = py::dict(), py::arg("start") = "shooting",
-           py::arg("budget") = true,
+           py::arg("budget") = true, py::arg("progress") = py::none(),
            "budget=True (budget=False: run anyway) refuses at once T/h steps of the modified solution beyond the time "
            "budget; step-by-step agreement of the discrete solution with the order-K modified solution, started by shooting "
            "(q~(h) = q_1) or naive (v~(0) = v_0)")

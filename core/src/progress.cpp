@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "geomint/interrupt.hpp"
+
 namespace geomint {
 
 Progress::Progress(std::string label, std::string unit, bool enabled)
@@ -24,8 +26,10 @@ void Progress::update(std::size_t done, std::size_t total, double work_fraction)
   char left[32] = "?";
   if (w > 0) std::snprintf(left, sizeof left, "%.0f s", elapsed * (1 - w) / w);
   // \r and clear-to-end-of-line: the line is rewritten in place
-  std::fprintf(stderr, "\r%s: %zu/%zu %s (%.0f%%), %.3g %s/s, %.0f s elapsed, ~%s left\033[K", label_.c_str(), done,
-               total, unit_.c_str(), 100 * w, rate, unit_.c_str(), elapsed, left);
+  // the same text as a watched call's progress (interrupt.hpp), then the rate and the time left
+  const std::string head = progress_text(label_, static_cast<double>(done), static_cast<double>(total), unit_, w);
+  std::fprintf(stderr, "\r%s, %.3g %s/s, %.0f s elapsed, ~%s left\033[K", head.c_str(), rate, unit_.c_str(), elapsed,
+               left);
   std::fflush(stderr);
   shown_ = true;
 }

@@ -1,6 +1,7 @@
 #include "geomint/system_cli.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <memory>
 
@@ -8,6 +9,7 @@
 #include "geomint/formula/formula_registry.hpp"
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/io.hpp"
+#include "geomint/text.hpp"
 
 namespace geomint {
 
@@ -81,6 +83,7 @@ bool has_system_arg(int argc, char** argv) {
 // The systems read from files by this process, alive as long as it (a program reads at most one), with their paths
 // for the output headers.
 struct LoadedSystem {
+  std::shared_ptr<const formula::FormulaModel> model;
   std::shared_ptr<const SystemInfo> info;
   std::string path;
   std::string time_transform;  // the monitor g (the command line's, or the file's), "" for none
@@ -94,8 +97,9 @@ std::vector<LoadedSystem>& loaded_systems() {
 const SystemInfo& system_from_file(const std::string& path, const std::string& time_transform) {
   formula::SystemDescription d = formula::read_system_file(path);
   if (!time_transform.empty()) d.time_transform = formula::formula_text(time_transform, "--time-transform");
-  auto info = formula::formula_system_info(formula::compile_model(d));
-  loaded_systems().push_back({info, path, d.time_transform.text});
+  auto model = formula::compile_model(d);
+  auto info = formula::formula_system_info(model);
+  loaded_systems().push_back({model, info, path, d.time_transform.text});
   return *info;
 }
 }  // namespace
@@ -190,6 +194,13 @@ std::vector<std::string> SystemOptions::schemes(const std::vector<std::string>& 
   if (asked.empty()) return system_->scheme_names();
   for (const auto& s : asked) system_->scheme(s);  // InputError naming the known ones
   return asked;
+}
+
+void SystemOptions::warn_contact(const std::vector<ParamValues>& values, const std::vector<std::string>& schemes) const {
+  for (const auto& l : loaded_systems())
+    if (l.info.get() == system_)
+      for (const auto& why : formula::contact_warnings(l.model, *system_, values, schemes))
+        std::fprintf(stderr, "warning: %s\n", one_line(why).c_str());
 }
 
 namespace {

@@ -12,12 +12,15 @@ programs (integrate, convergence, work-precision, modified equations), every loo
     table = geomint.read_tsv("out/pendulum_contact.tsv")                  # columns and the '#' header
 
 Errors are geomint.InputError (a ValueError) and geomint.NumericalFailure (an ArithmeticError with .step and
-.quantity), with the C++ message.
+.quantity), with the C++ message. geomint.GeomintWarning (a UserWarning, through Python's warnings) flags a result
+computed but doubtful: a Herglotz form inconsistent with the force, given at the system's first contact-family
+run (define_system(..., strict_herglotz=True) refuses such a system at once instead).
 """
 
 import numpy as _np
 
 from ._geomint import (  # noqa: F401  (the public names)
+    GeomintWarning,
     InputError,
     NumericalFailure,
     System,
@@ -30,6 +33,7 @@ from ._geomint import (  # noqa: F401  (the public names)
 )
 
 __all__ = [
+    "GeomintWarning",
     "InputError",
     "NumericalFailure",
     "System",

@@ -10,6 +10,7 @@
 
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
+#include "geomint/interrupt.hpp"
 #include "geomint/parallel.hpp"
 #include "geomint/step_cost.hpp"
 #include "geomint/sweep.hpp"
@@ -98,6 +99,7 @@ void validate_ensemble(const SystemInfo& sys, const EnsembleSpec& spec) {
   step_count(spec.h, sys.horizon(spec.base));
   // every run's own parameters: a perturbation can leave the system's domain (a negative mass, e >= 1)
   for (long k = 0; k < spec.runs; ++k) {
+    interruption_point();
     try {
       sys.validate(ensemble_params(sys, spec, k));
     } catch (const InputError& e) {
@@ -137,11 +139,13 @@ std::vector<EnsembleRun> run_ensemble(const SystemInfo& sys, const EnsembleSpec&
   const std::size_t n = static_cast<std::size_t>(std::max(0L, last - first));
   std::vector<EnsembleRun> out(n);
   std::atomic<std::size_t> done{0};
+  Task task("ensemble", "runs", static_cast<double>(n));  // a watched call's progress (interrupt.hpp)
   // a failure that is not numerical (those are data) stops every thread and is rethrown once (parallel_for)
   auto work = [&] {
     parallel_for(n, threads, [&](std::size_t i) {
       out[i] = one_run(sys, spec, first + static_cast<long>(i), N);
       done.fetch_add(1);
+      task.add();
     });
   };
   if (!report) {

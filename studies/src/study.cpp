@@ -9,6 +9,7 @@
 
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
+#include "geomint/interrupt.hpp"
 #include "geomint/io.hpp"
 #include "geomint/record.hpp"
 #include "geomint/step_cost.hpp"
@@ -195,6 +196,7 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
   std::vector<double> cost(n_items);
   for (std::size_t k = 0; k < n_items; ++k) cost[k] = 1 / hs[k % H];
   std::string ref_kind;
+  Task task("convergence", "runs", static_cast<double>(n_items));  // a watched call's progress (interrupt.hpp)
   const auto points = sweep.map<Point>(
       n_items, cost,
       [&](std::size_t first, std::size_t last) {
@@ -234,6 +236,7 @@ ConvergenceStudy convergence_study(const SystemInfo& sys, const std::vector<Para
             report_missing(pv.empty() ? "defaults" : where, p.failure);
           }
           out.push_back(p);
+          task.add();
         }
         return out;
       },

@@ -9,6 +9,7 @@
 
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
+#include "geomint/interrupt.hpp"
 #include "geomint/io.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/run/baselines.hpp"
@@ -266,14 +267,27 @@ WorkPrecisionStudy work_precision_study(const SystemInfo& sys, const std::vector
       k.ref_failure = f;
     }
     k.size_reference();
+    // a watched call's progress (interrupt.hpp): the points of this combination
+    Task task("work_precision", "points",
+              static_cast<double>(opt.hs.size() * (opt.schemes.size() + opt.baselines.size()) +
+                                  opt.tols.size() * opt.baselines.size()));
     for (const auto& name : opt.schemes)
-      for (double h : opt.hs) study.points.push_back(k.scheme(name, h));
+      for (double h : opt.hs) {
+        study.points.push_back(k.scheme(name, h));
+        task.add();
+      }
     for (const auto& b : opt.baselines)
       if (!is_adaptive_baseline(b))
-        for (double h : opt.hs) study.points.push_back(k.baseline(b, h));
+        for (double h : opt.hs) {
+          study.points.push_back(k.baseline(b, h));
+          task.add();
+        }
     for (double tol : opt.tols)
       for (const auto& b : opt.baselines)
-        if (is_adaptive_baseline(b)) study.points.push_back(k.baseline(b, tol));
+        if (is_adaptive_baseline(b)) {
+          study.points.push_back(k.baseline(b, tol));
+          task.add();
+        }
   }
   return study;
 }

@@ -1,14 +1,18 @@
 #pragma once
 // Independent items on a few threads: fn(i) for every i in [0, n), each thread pulling the next index. fn must
 // write only the i-th result (the results, and so the files, do not depend on the thread count). The first
-// exception thrown by any fn is rethrown once every thread has stopped; the remaining items are skipped.
+// exception thrown by any fn is rethrown once every thread has stopped; the remaining items are skipped (an
+// interrupt of a watched call, interrupt.hpp, is such an exception).
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <exception>
 #include <mutex>
 #include <thread>
 #include <vector>
+
+#include "geomint/interrupt.hpp"
 
 namespace geomint {
 
@@ -37,9 +41,26 @@ void parallel_for(std::size_t n, unsigned threads, Fn&& fn) {
       }
     }
   };
+  std::atomic<std::size_t> finished{0};
   std::vector<std::thread> pool;
-  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(work);
+  for (std::size_t w = 1; w < workers; ++w)
+    pool.emplace_back([&] {
+      work();
+      ++finished;
+    });
   work();
+  // The calling thread polls a watched call's interrupt while the others finish their last items (interrupt.hpp):
+  // an interrupt then stops them at their next interruption point.
+  while (finished.load() < pool.size()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    try {
+      interruption_check();
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(error_mutex);
+      if (!error) error = std::current_exception();
+      stop = true;
+    }
+  }
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
 }

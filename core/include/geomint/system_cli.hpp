@@ -29,6 +29,10 @@ class SystemOptions {
   std::vector<std::pair<std::string, std::string>> header() const;
   // The schemes asked for (--schemes), or every scheme of the system when none.
   std::vector<std::string> schemes(const std::vector<std::string>& asked) const;
+  // Before the runs of `schemes` at `values`: a system file whose Herglotz form is inconsistent with its force
+  // says so on stderr ("warning: <file:line:col>: ..."), once, when a scheme of the contact family is among them
+  // (formula::contact_warnings, the check behind the Python module's GeomintWarning).
+  void warn_contact(const std::vector<ParamValues>& values, const std::vector<std::string>& schemes) const;
 
  private:
   const SystemInfo* system_ = nullptr;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <mutex>
+#include <set>
 #include <vector>
 
 #include "geomint/error.hpp"
@@ -75,6 +76,36 @@ std::vector<std::string> formula_warnings(const std::shared_ptr<const FormulaMod
     for (const auto& [name, x] : values) sys.set_parameter(name, x);
     return sys.warnings();
   });
+}
+
+bool contact_family(const SystemInfo& sys, const std::string& scheme) {
+  // a composition's principle names its base's ("... of contact: discrete Herglotz ...")
+  return sys.scheme(scheme).principle.find("discrete Herglotz") != std::string::npos;
+}
+
+std::vector<std::string> contact_warnings(const std::shared_ptr<const FormulaModel>& model, const SystemInfo& sys,
+                                          const std::vector<ParamValues>& values, const std::vector<std::string>& schemes) {
+  if (model == nullptr || !model->has_herglotz()) return {};
+  if (std::none_of(schemes.begin(), schemes.end(), [&](const std::string& s) { return contact_family(sys, s); })) return {};
+  // Once per model: the first run that finds the form inconsistent says so; a sweep over many values (each with
+  // its own sample values in the message) would otherwise repeat it per value. Keyed by the model's ownership, not
+  // its address: a model freed and another allocated in its place is a new key (the weak pointer keeps the old
+  // control block), so a new system is never taken for one already warned.
+  static std::mutex mutex;
+  static std::set<std::weak_ptr<const FormulaModel>, std::owner_less<>> warned;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (warned.count(model) > 0) return {};
+  }
+  for (const auto& pv : values) {
+    auto why = formula_warnings(model, pv);
+    if (why.empty()) continue;
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (auto it = warned.begin(); it != warned.end();) it = it->expired() ? warned.erase(it) : std::next(it);
+    if (!warned.insert(model).second) return {};  // another thread gave it meanwhile
+    return why;
+  }
+  return {};
 }
 
 bool formula_shape_compiled(int n, int m, bool holonomic) {

@@ -13,6 +13,7 @@
 
 #include "geomint/error.hpp"
 #include "geomint/gsl_evolve.hpp"
+#include "geomint/interrupt.hpp"
 #include "geomint/io.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/timing.hpp"
@@ -48,6 +49,7 @@ struct Counted {
   const OdeRhs* f;
   long* calls;
   void operator()(const State& x, State& dx, double t) const {
+    interruption_point();  // a watched call stops here (interrupt.hpp); GSL's steps check in step_to instead
     ++*calls;
     (*f)(t, x.data(), dx.data());
   }
@@ -179,6 +181,7 @@ void rk8pd(const BaselineSetup& s, const Counted& rhs, State& x, const BaselineO
   std::size_t k = 0;
   if (observe) (*observe)(k++, t, x.data());
   auto step_to = [&](double t1, double T) {
+    interruption_point();  // here, not in gsl_counted: no exception through GSL's C frames
     if (gsl.apply(gs, t, t1, dt, x.data()) != GSL_SUCCESS || !finite(x))
       throw NumericalFailure(n.steps, "state", "GSL rk8pd could not take a step at t = " + show(t));
     check_adaptive_steps(++n.steps, t, T);

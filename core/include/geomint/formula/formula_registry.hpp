@@ -30,6 +30,16 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
 // or one message. Every shape (the check runs at run-time dimensions, checks.hpp).
 std::vector<std::string> formula_warnings(const std::shared_ptr<const FormulaModel>& model, const ParamValues& values);
 
+// Whether a scheme of `sys` integrates the Herglotz equations (a contact scheme, or a composition of one): the runs
+// where a Herglotz form inconsistent with the force is a different system.
+bool contact_family(const SystemInfo& sys, const std::string& scheme);
+
+// The Herglotz form checked before a run of `schemes` at each of `values`, when one of the schemes is of the contact
+// family: the message, the first time a run of this model finds the form inconsistent (once per model, however
+// many runs, calls, threads or parameter values ask; empty afterwards). The one check behind the Python module's GeomintWarning and the programs' stderr warning.
+std::vector<std::string> contact_warnings(const std::shared_ptr<const FormulaModel>& model, const SystemInfo& sys,
+                                          const std::vector<ParamValues>& values, const std::vector<std::string>& schemes);
+
 // Whether the build compiled the shape, and the compiled shapes for messages ("n = 1, m = 0; ...").
 bool formula_shape_compiled(int n, int m, bool holonomic);
 std::string compiled_formula_shapes();

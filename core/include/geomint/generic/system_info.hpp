@@ -15,6 +15,7 @@
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/generic/fast_path.hpp"
 #include "geomint/generic/stepper.hpp"
+#include "geomint/interrupt.hpp"
 #include "geomint/io.hpp"
 #include "geomint/reference.hpp"
 #include "geomint/registry.hpp"
@@ -85,9 +86,16 @@ void require_path(Path path) {
 // positions_only: the observer reads only j, t and q, so a closed form that has run_positions runs it (the
 // view's p, z and lambda are then missing values).
 template <class Sys, class X, bool positions_only = false, class Observer>
-void drive(const Sys& sys, double h, long N, Path path, Observer&& observe) {
+void drive(const Sys& sys, double h, long N, Path path, Observer&& observe_step) {
   constexpr int n = Sys::dof, m = Sys::constraints;
   require_path<Sys, X>(path);
+  // every step an interruption point, and the run's progress when it is the watched call's outermost task
+  Task task("run", "steps", static_cast<double>(N));
+  auto observe = [&](const StepView<double, n, m>& view, int updates) {
+    interruption_point();
+    task.set(static_cast<double>(view.j));
+    observe_step(view, updates);
+  };
   using C = runner_of_t<Sys, X>;
   if constexpr (!std::is_void_v<C>) {
     if (effective_path<Sys, X>(path) == Path::fast) {
@@ -278,8 +286,14 @@ decltype(auto) visit_composition(const std::string& name, F&& f) {
 // N steps of the composition from the system's initial data; observe(StepView, newton updates, max |Phi_d| over
 // the stages) at every q_j, j = 0..N.
 template <class Sys, class G, class Observer>
-void drive_composition(const Sys& sys, const CompositionFamily& family, double h, long N, Observer&& observe) {
+void drive_composition(const Sys& sys, const CompositionFamily& family, double h, long N, Observer&& observe_step) {
   constexpr int n = Sys::dof, m = Sys::constraints;
+  Task task("run", "steps", static_cast<double>(N));  // as drive
+  auto observe = [&](const StepView<double, n, m>& view, int updates, double phid) {
+    interruption_point();
+    task.set(static_cast<double>(view.j));
+    observe_step(view, updates, phid);
+  };
   using C = Composition<Sys, G>;
   C c(sys, family, h);
   c.start(sys.template initial_position<double>(), sys.template initial_velocity<double>());
@@ -468,6 +482,7 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
     x0[static_cast<std::size_t>(n + i)] = v0(i);
   }
   auto rhs = [&](const State& x, State& dx, double t) {
+    interruption_point();  // a tight tolerance over a long horizon is a long reference
     Vec<double, n> q, v, a;
     for (int i = 0; i < n; ++i) {
       q(i) = x[static_cast<std::size_t>(i)];

@@ -15,6 +15,7 @@
 #include "geomint/generic/composition.hpp"
 #include "geomint/generic/stepper.hpp"
 #include "geomint/generic/system_info.hpp"
+#include "geomint/interrupt.hpp"
 #include "geomint/modified/automatic.hpp"
 #include "geomint/modified/automatic_registry.hpp"
 #include "geomint/reference.hpp"
@@ -97,6 +98,7 @@ struct Flow {
   int K;
   double h;
   void operator()(const State& x, State& dx, double t) const {
+    interruption_point();  // each evaluation is a modified equation to order K: a watched call stops here
     Vec<double, n> q, v;
     for (int i = 0; i < n; ++i) {
       q(i) = x[static_cast<std::size_t>(i)];
@@ -205,6 +207,7 @@ Discrete<Sys, G> discrete_steps(const Sys& sys, Stepper& st, long N) {
   };
   keep();
   for (long j = 0; j < N; ++j) {
+    interruption_point();
     st.step();
     keep();
     d.lambda.push_back(st.state().lambda.template cast<double>());
@@ -255,6 +258,7 @@ ModifiedAgreement agreement_run(const Sys& sys, const Family* family, int K, dou
     constexpr int o = Engine<Sys, G>::o;
     Vec<double, m> phi0 = Vec<double, m>::Zero();
     for (std::size_t j = 0; j < xs.size(); ++j) {
+      interruption_point();
       const double t = times[j];
       Vec<double, n> v;
       for (int i = 0; i < n; ++i) v(i) = xs[j][static_cast<std::size_t>(n + i)];
