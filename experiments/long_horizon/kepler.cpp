@@ -141,8 +141,8 @@ int long_horizon_kepler(int argc, char** argv) {
   return [&] {
     gsl_set_error_handler_off();  // GSL's failures are statuses the baseline reports, never an abort
     std::vector<double> orbits{100, 300}, ks{32, 64, 128, 256}, tols{1e-6, 1e-8, 1e-10, 1e-12};
-    std::vector<std::string> schemes{"la-trapezoid", "contact-trapezoid", "yoshida4:la-trapezoid",
-                                     "yoshida6a:la-trapezoid", "kahanli8:la-trapezoid"};
+    std::vector<std::string> schemes{"la-trapezoid", "contact-trapezoid", "yoshida4:la-trapezoid", "yoshida6a:la-trapezoid",
+                                     "kahanli8:la-trapezoid", "logh", "yoshida4:logh", "yoshida6a:logh", "kahanli8:logh"};
     double alpha = 1e-5, e = 0.4, a = 0, theta = two_pi, reference_tol = 1e-17;
     long outputs = 8;
     int reps = 3;
@@ -157,8 +157,8 @@ int long_horizon_kepler(int argc, char** argv) {
         "theta", po::value(&theta)->default_value(theta, "2 pi"), "frequency of the periodic friction")(
         "schemes", po::value(&schemes)->multitoken(),
         "schemes and compositions <family>:<base> of kepler (default la-trapezoid, contact-trapezoid and the "
-        "yoshida4, yoshida6a, kahanli8 compositions of la-trapezoid), and the logH leapfrog logh with its "
-        "compositions <family>:logh (a fixed step 2 pi/k in sigma, dt = dsigma/U)")(
+        "yoshida4, yoshida6a, kahanli8 compositions of la-trapezoid; the logH leapfrog logh and the same compositions "
+        "of it), and any composition <family>:logh (logh: a fixed step 2 pi/k in sigma, dt = dsigma/U)")(
         "outputs", po::value(&outputs)->default_value(outputs), "output points an orbit where the errors are taken (divides every k)")(
         "reference-tol", po::value(&reference_tol)->default_value(reference_tol, "1e-17"),
         "tolerance of the long double reference, in [1e-18, 1e-12]")(
