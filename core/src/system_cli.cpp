@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <string>
+#include <utility>
 
 #include "geomint/error.hpp"
 #include "geomint/formula/formula_registry.hpp"
@@ -35,21 +37,31 @@ std::string find_system_arg(int argc, char** argv, const std::string& fallback) 
   return name;
 }
 
-// --system-file PATH or --system-file=PATH in argv ("" when absent). An empty PATH is refused: it is what an unset
-// shell variable gives ("--system-file $F"), and taken as "absent" it ran the default system in its place.
-std::string find_system_file_arg(int argc, char** argv) {
-  std::string path;
+namespace {
+// The value of `option` in argv, given as "option VALUE" or "option=VALUE" (the last one wins), and whether it was
+// given at all.
+std::pair<std::string, bool> find_option_value(int argc, char** argv, const std::string& option) {
+  std::string value;
   bool given = false;
+  const std::string with_equals = option + "=";
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--system-file") == 0 && i + 1 < argc) {
-      path = argv[i + 1];
+    if (argv[i] == option && i + 1 < argc) {
+      value = argv[i + 1];
       given = true;
     }
-    if (std::strncmp(argv[i], "--system-file=", 14) == 0) {
-      path = argv[i] + 14;
+    if (std::strncmp(argv[i], with_equals.c_str(), with_equals.size()) == 0) {
+      value = argv[i] + with_equals.size();
       given = true;
     }
   }
+  return {value, given};
+}
+}  // namespace
+
+// --system-file PATH or --system-file=PATH in argv ("" when absent). An empty PATH is refused: it is what an unset
+// shell variable gives ("--system-file $F"), and taken as "absent" it ran the default system in its place.
+std::string find_system_file_arg(int argc, char** argv) {
+  const auto [path, given] = find_option_value(argc, argv, "--system-file");
   require(!given || !path.empty(), "--system-file is given an empty path (an unset shell variable?): name a system file, "
                                    "or leave the option out for the default system");
   return path;
@@ -57,18 +69,7 @@ std::string find_system_file_arg(int argc, char** argv) {
 
 // --time-transform G or --time-transform=G in argv ("" when absent; an empty G is refused like an empty path).
 std::string find_time_transform_arg(int argc, char** argv) {
-  std::string g;
-  bool given = false;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--time-transform") == 0 && i + 1 < argc) {
-      g = argv[i + 1];
-      given = true;
-    }
-    if (std::strncmp(argv[i], "--time-transform=", 17) == 0) {
-      g = argv[i] + 17;
-      given = true;
-    }
-  }
+  const auto [g, given] = find_option_value(argc, argv, "--time-transform");
   require(!given || !g.empty(), "--time-transform is given an empty formula: give the monitor g (dt = g dsigma), e.g. 1/(1 + v1^2)");
   return g;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Dense>
 #include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
@@ -209,13 +210,7 @@ std::vector<double> physical_table(const FormulaModel& M, const std::vector<doub
   std::vector<double> out(P.numbers);
   for (const auto& p : P.parameters)
     out.push_back(pv[static_cast<std::size_t>(M.parameter_offset() + M.parameter_index(p.name))]);
-  out.resize(static_cast<std::size_t>(P.table_size()));
-  std::vector<const double*> in(static_cast<std::size_t>(P.derived_offset()));
-  for (std::size_t i = 0; i < in.size(); ++i) in[i] = &out[i];
-  std::vector<double> derived(P.prelude.size());
-  P.prelude.eval_duals<double, 0>(nullptr, in.data(), out.data(), derived.data());
-  std::copy(derived.begin(), derived.end(), out.begin() + P.derived_offset());
-  return out;
+  return with_derived_values(P, std::move(out));
 }
 
 void validate_model(const FormulaModel& M, const std::vector<double>& pv) {

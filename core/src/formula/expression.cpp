@@ -329,47 +329,12 @@ int Expressions::substitute(int id, const std::vector<int>& by) {
 }
 
 int Expressions::substitute_zero(int id, std::uint32_t bits) {
-  std::unordered_map<int, int> memo;
-  auto go = [&](auto&& self, int e) -> int {
-    const Node x = (*this)[e];
-    if (!(x.uses & bits)) return e;
-    const auto it = memo.find(e);
-    if (it != memo.end()) return it->second;
-    int r = -1;
-    switch (x.kind) {
-      case Kind::number:
-      case Kind::param:
-        r = e;
-        break;
-      case Kind::var:
-        r = number(0);
-        break;
-      case Kind::neg:
-        r = neg(self(self, x.a));
-        break;
-      case Kind::add:
-        r = add(self(self, x.a), self(self, x.b));
-        break;
-      case Kind::sub:
-        r = sub(self(self, x.a), self(self, x.b));
-        break;
-      case Kind::mul:
-        r = mul(self(self, x.a), self(self, x.b));
-        break;
-      case Kind::div:
-        r = div(self(self, x.a), self(self, x.b));
-        break;
-      case Kind::pow:
-        r = pow(self(self, x.a), self(self, x.b));
-        break;
-      case Kind::call:
-        r = call(x.fn, self(self, x.a), x.b >= 0 ? self(self, x.b) : -1);
-        break;
-    }
-    memo.emplace(e, r);
-    return r;
-  };
-  return go(go, id);
+  if (!((*this)[id].uses & bits)) return id;
+  const int zero = number(0);
+  std::vector<int> by(32, -1);
+  for (int s = 0; s < 32; ++s)
+    if (bits & vars_.bit(s)) by[static_cast<std::size_t>(s)] = zero;
+  return substitute(id, by);
 }
 
 double constant_value(const Expressions& ex, int id) {

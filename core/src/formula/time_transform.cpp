@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "geomint/error.hpp"
 #include "geomint/text.hpp"
@@ -16,13 +17,17 @@ std::vector<double> parameter_table(const FormulaModel& M, const ParamValues& pv
       if (name == p.name) x = value;
     out.push_back(x);
   }
-  out.resize(static_cast<std::size_t>(M.table_size()));
+  return with_derived_values(M, std::move(out));
+}
+
+std::vector<double> with_derived_values(const FormulaModel& M, std::vector<double> table) {
+  table.resize(static_cast<std::size_t>(M.table_size()));
   std::vector<const double*> in(static_cast<std::size_t>(M.derived_offset()));
-  for (std::size_t i = 0; i < in.size(); ++i) in[i] = &out[i];
+  for (std::size_t i = 0; i < in.size(); ++i) in[i] = &table[i];
   std::vector<double> derived(M.prelude.size());
-  M.prelude.eval_duals<double, 0>(nullptr, in.data(), out.data(), derived.data());
-  std::copy(derived.begin(), derived.end(), out.begin() + M.derived_offset());
-  return out;
+  M.prelude.eval_duals<double, 0>(nullptr, in.data(), table.data(), derived.data());
+  std::copy(derived.begin(), derived.end(), table.begin() + M.derived_offset());
+  return table;
 }
 
 namespace {
