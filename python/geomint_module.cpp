@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "geomint/error.hpp"
@@ -156,8 +157,20 @@ auto watched(const py::object& progress, F&& f) -> decltype(f()) {
       },
       report);
   try {
-    py::gil_scoped_release release;
-    return f();
+    if constexpr (std::is_void_v<decltype(f())>) {
+      {
+        py::gil_scoped_release release;
+        f();
+      }
+      watch.rethrow_if_stopped();  // the callback's exception at the call's last report
+    } else {
+      auto result = [&] {
+        py::gil_scoped_release release;
+        return f();
+      }();
+      watch.rethrow_if_stopped();
+      return result;
+    }
   } catch (const Interrupted&) {
     watch.rethrow_if_stopped();
     throw;

@@ -87,7 +87,24 @@ Task::Task(std::string label, std::string unit, double total)
 }
 
 Task::~Task() {
-  if (owner_) g_task = nullptr;
+  if (!owner_) return;
+  // A task that ran to its end reports its last state, so that a progress bar reaches its end even when the task
+  // took less than one poll interval; an unwinding one (interrupted, failed) reports nothing more. An exception the
+  // callback raises here is kept for the watched call to raise (Watch::rethrow_if_stopped).
+  WatchState* w = g_watch;
+  if (w != nullptr && w->progress && std::uncaught_exceptions() == 0) {
+    try {
+      std::string text = line();
+      if (text != w->last_line) {
+        w->last_line = text;
+        w->progress(fraction(), text);
+      }
+    } catch (...) {
+      if (!w->error) w->error = std::current_exception();
+      g_stop = true;
+    }
+  }
+  g_task = nullptr;
 }
 
 double Task::fraction() const {
