@@ -601,4 +601,14 @@ std::shared_ptr<const FormulaModel> load_system_file(const std::filesystem::path
   return compile_model(read_system_file(path), options);
 }
 
+std::vector<double> with_derived_values(const FormulaModel& M, std::vector<double> table) {
+  table.resize(static_cast<std::size_t>(M.table_size()));
+  std::vector<const double*> in(static_cast<std::size_t>(M.derived_offset()));
+  for (std::size_t i = 0; i < in.size(); ++i) in[i] = &table[i];
+  std::vector<double> derived(M.prelude.size());
+  M.prelude.eval_duals<double, 0>(nullptr, in.data(), table.data(), derived.data());
+  std::copy(derived.begin(), derived.end(), table.begin() + M.derived_offset());
+  return table;
+}
+
 }  // namespace geomint::formula

@@ -108,4 +108,7 @@ std::shared_ptr<const FormulaModel> compile_model(const SystemDescription& descr
 // read_system_file + compile_model.
 std::shared_ptr<const FormulaModel> load_system_file(const std::filesystem::path& path, const CompileOptions& options = {});
 
+// `table` (the numbers and the parameters of `model`) completed with the derived values its prelude computes.
+std::vector<double> with_derived_values(const FormulaModel& model, std::vector<double> table);
+
 }  // namespace geomint::formula

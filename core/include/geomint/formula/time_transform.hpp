@@ -49,8 +49,6 @@ void time_transform_velocities(const FormulaModel& model, const std::vector<doub
 
 // The tapes' parameter table (numbers | parameters | derived values) of `model` at `pv`, its defaults elsewhere.
 std::vector<double> parameter_table(const FormulaModel& model, const ParamValues& pv);
-// `table` (the numbers and the parameters of `model`) completed with the derived values its prelude computes.
-std::vector<double> with_derived_values(const FormulaModel& model, std::vector<double> table);
 
 // w = kappa (t' - g) at (sigma, Q, Q') at the parameter values `pv` (the model's defaults elsewhere).
 double time_transform_residual(const FormulaModel& model, const ParamValues& pv, double sigma, const std::vector<double>& Q,
