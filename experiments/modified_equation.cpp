@@ -21,6 +21,7 @@
 // Another system than the default pendulum writes the same files prefixed with its name
 // (out/knife-edge_modified_equation.tsv, ...), so that one folder holds the tables of several systems.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -64,15 +65,17 @@ double param_value(const SystemInfo& info, const ParamValues& pv, const std::str
 
 void write_formulas(const std::filesystem::path& dir, const std::string& prefix, const std::string& system, const std::vector<std::string>& schemes,
                     Params header, const std::vector<ModifiedFormulas>& forms) {
-  header.emplace_back("formulas", "the same engine with GiNaC coefficients: parameters and the point (t, q, qdot, z) symbolic");
-  header.emplace_back("syntax", "text: sympy.sympify (powers '^', exact rationals a/b); mathematica: ToExpression");
+  header.emplace_back("formulas", "the same engine with GiNaC coefficients: parameters and the point (t, q1.., v1.., z) symbolic");
+  header.emplace_back("syntax", "text: define_system reads it, sympy.parse_expr with the symbols as local_dict (powers '^', exact rationals a/b); mathematica: ToExpression (capitalized names in Global`)");
   // every symbol of every scheme's formulas: t, h, z, the positions, the velocities, then the parameters
   std::vector<std::string> symbols;
   for (const auto& f : forms)
     for (const auto& n : f.symbols)
       if (std::find(symbols.begin(), symbols.end(), n) == symbols.end()) symbols.push_back(n);
   auto rank = [](const std::string& n) {
-    return n == "t" ? 0 : n == "h" ? 1 : n == "z" ? 2 : n.rfind("qdot", 0) == 0 ? 4 : n[0] == 'q' ? 3 : 5;
+    const bool state = n.size() > 1 && (n[0] == 'q' || n[0] == 'v') &&
+                       std::all_of(n.begin() + 1, n.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
+    return n == "t" ? 0 : n == "h" ? 1 : n == "z" ? 2 : state ? (n[0] == 'q' ? 3 : 4) : 5;
   };
   std::stable_sort(symbols.begin(), symbols.end(), [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
   header.emplace_back("symbols", join_names(symbols));

@@ -552,6 +552,35 @@ py::dict modified_agreement(const System& s, const std::string& scheme, int K, d
   return d;
 }
 
+// The consistent start of the order-K modified solution: v~(0) with q~(0) = q_0 such that the modified flow passes
+// through the scheme's first step q_1 at t = h (what modified_agreement's shooting start uses; its v_shift is
+// |v~(0) - v_0|).
+py::dict modified_start(const System& s, const std::string& scheme, int K, double h, double tol, const py::dict& params) {
+  const ParamValues pv = param_values(params);
+  s.info().validate(pv);
+  modified::modified_scheme(s.info(), scheme);
+  require(std::isfinite(h) && h > 0, "h must be a positive finite number, got " + show(h));
+  require(std::isfinite(tol) && tol > 0, "tol must be a positive finite number, got " + show(tol));
+  require(K >= 0 && K <= modified::registry_max_order,
+          "order must be an integer in [0, " + std::to_string(modified::registry_max_order) + "]");
+  warn_contact(s, {pv}, {scheme});
+  const auto& ms = s.modified();
+  const auto q0 = point_or_initial(s, pv, {}, false), v0 = point_or_initial(s, pv, {}, true);
+  std::vector<double> v;
+  {
+    py::gil_scoped_release release;
+    v = ms.shoot(pv, scheme, K, h, tol);
+  }
+  double shift = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) shift = std::max(shift, std::abs(v[i] - v0[i]));
+  py::dict d;
+  d["q"] = to_array(q0, static_cast<long>(q0.size()));
+  d["v"] = to_array(v, static_cast<long>(v.size()));
+  d["v0"] = to_array(v0, static_cast<long>(v0.size()));
+  d["shift"] = shift;
+  return d;
+}
+
 // A formula given from Python: a string (written as a user would), or a number (its shortest exact decimal).
 formula::FormulaText formula_of(const py::handle& x, const std::string& field) {
   if (py::isinstance<py::str>(x)) return formula::formula_text(py::cast<std::string>(x), field);
@@ -847,6 +876,11 @@ PYBIND11_MODULE(_geomint, m) {
            "budget=True (budget=False: run anyway) refuses at once T/h steps of the modified solution beyond the time "
            "budget; step-by-step agreement of the discrete solution with the order-K modified solution, started by shooting "
            "(q~(h) = q_1) or naive (v~(0) = v_0)")
+      .def("modified_start", &modified_start, py::arg("scheme"), py::arg("order"), py::arg("h"), py::arg("tol") = 1e-13,
+           py::arg("params") = py::dict(),
+           "the consistent start of the order-K modified solution of `scheme` at step h: {q (= q_0), v (v~(0): the "
+           "modified flow from (q_0, v~(0)) passes through the scheme's first step q_1 at t = h), v0 (the system's "
+           "initial velocity), shift (max |v - v0|, modified_agreement's v_shift)}; found by shooting (Odeint at tol)")
       .def("all_orders", &all_orders, py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(),
            py::arg("path") = "fast",
            "a linear system's modified equation to all orders: G = log(M)/h, the generator of the flow through every "

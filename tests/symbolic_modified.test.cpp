@@ -186,9 +186,9 @@ TEST_CASE("formulas equal the numbers at random points, every registered system 
       set("t", t);
       set("z", z);
       for (int i = 0; i < ms.dof; ++i) {
-        const std::string s = ms.dof == 1 ? "" : std::to_string(i + 1);
+        const std::string s = std::to_string(i + 1);
         set("q" + s, q[static_cast<std::size_t>(i)]);
-        set("qdot" + s, v[static_cast<std::size_t>(i)]);
+        set("v" + s, v[static_cast<std::size_t>(i)]);
       }
       for (const auto& [name, x] : f.values) set(name, x);
       const ModifiedPoint P = ms.at({}, scheme, K, t, q, v, z, false);
@@ -252,7 +252,7 @@ TEST_CASE("formulas: sympy reads the text as the numbers", "[symbolic][sympy]") 
     py << "import sympy\n"
           "names = '" << join_names(f.symbols) << "'.split()\n"
           "syms = {n: sympy.Symbol(n) for n in names}\n"
-          "point = {syms['q']: " << q << ", syms['qdot']: " << v << ", syms['z']: " << z;
+          "point = {syms['q1']: " << q << ", syms['v1']: " << v << ", syms['z']: " << z;
     for (const auto& [name, x] : f.values) py << ", syms['" << name << "']: " << x;
     py << "}\n"
           "for line in open('" << (dir / "formulas.txt").string() << "'):\n"
@@ -292,7 +292,7 @@ TEST_CASE("modified_equation --formulas: text and LaTeX next to an unchanged tab
   const std::string txt = read_bytes(with / "modified_equation_formulas.txt"), tex = read_bytes(with / "modified_equation_formulas.tex");
   CHECK(txt.rfind("# program: modified_equation\n# git: ", 0) == 0);
   CHECK(tex.rfind("% program: modified_equation\n% git: ", 0) == 0);
-  CHECK(txt.find("# symbols: h z q qdot alpha\n") != std::string::npos);
+  CHECK(txt.find("# symbols: h z q1 v1 alpha\n") != std::string::npos);
   // LA's F_1 on the pendulum is (8)'s force -h alpha/2 q''_0 = alpha/2 (alpha q' + sin q): the text row, read
   // back, is that formula
   std::istringstream lines(txt);
@@ -304,8 +304,8 @@ TEST_CASE("modified_equation --formulas: text and LaTeX next to an unchanged tab
     for (std::string c; std::getline(row, c, '\t');) cells.push_back(c);
     if (cells.size() != 6 || cells[0] != "pendulum" || cells[1] != "la" || cells[2] != "F" || cells[3] != "1") continue;
     GiNaC::symtab table;
-    const ex e = parse_formula(cells[4], {"q", "qdot", "alpha"}, table);
-    const ex q = table["q"], v = table["qdot"], al = table["alpha"];
+    const ex e = parse_formula(cells[4], {"q1", "v1", "alpha"}, table);
+    const ex q = table["q1"], v = table["v1"], al = table["alpha"];
     CHECK(same(e, al / 2 * (al * v + sin(q))));
     found = true;
   }

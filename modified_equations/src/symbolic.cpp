@@ -1,11 +1,16 @@
 #include "geomint/modified/symbolic.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "geomint/error.hpp"
 
 namespace geomint::modified {
 
@@ -37,13 +42,6 @@ ex simplify_coefficient(const ex& e) {
 
 namespace {
 
-bool reserved(const std::string& name) {
-  // names that sympy's sympify or Mathematica read as something else
-  static const std::set<std::string> r{"I", "E", "N", "S", "O", "Q", "C", "D", "beta", "gamma", "zeta", "pi",
-                                       "Pi", "lambda", "re", "im", "sign", "Abs", "lambda", "del", "if", "in", "is"};
-  return r.count(name) > 0;
-}
-
 std::string tex_name(const std::string& name) {
   static const std::set<std::string> greek{"alpha", "beta", "gamma", "delta", "epsilon", "kappa", "lambda", "mu",
                                            "nu", "xi", "rho", "sigma", "tau", "phi", "psi", "omega", "theta",
@@ -54,27 +52,40 @@ std::string tex_name(const std::string& name) {
     base.pop_back();
   }
   std::string t = greek.count(base) ? "\\" + base : (base.size() > 1 ? "\\mathrm{" + base + "}" : base);
+  for (std::size_t i = 0; (i = t.find('_', i)) != std::string::npos; i += 2) t.replace(i, 1, "\\_");
   return sub.empty() ? t : t + "_{" + sub + "}";
+}
+
+// q<k> or v<k> with 1 <= k <= n: a coordinate or velocity of the formula language.
+bool state_name(const std::string& name, int n) {
+  if (name.size() < 2 || (name[0] != 'q' && name[0] != 'v') || name[1] == '0') return false;
+  for (std::size_t i = 1; i < name.size(); ++i)
+    if (!std::isdigit(static_cast<unsigned char>(name[i]))) return false;
+  return name.size() < 6 && std::stoi(name.substr(1)) <= n;
 }
 
 }  // namespace
 
+// The names of the formula language (docs/systems/README.md): q1..qn, v1..vn whatever n, so that a printed
+// formula is read back by define_system as it stands.
 FormulaSymbols::FormulaSymbols(int n) {
   for (int i = 0; i < n; ++i) {
-    const std::string s = n == 1 ? "" : std::to_string(i + 1);
-    const std::string ts = n == 1 ? "" : "_{" + s + "}";
-    q.emplace_back("q" + s, "q" + ts);
-    v.emplace_back("qdot" + s, "\\dot{q}" + ts);
+    const std::string s = std::to_string(i + 1);
+    q.emplace_back("q" + s, "q_{" + s + "}");
+    v.emplace_back("v" + s, "\\dot{q}_{" + s + "}");
   }
 }
 
-std::string printed_symbol_name(const std::string& name) { return reserved(name) ? name + "p" : name; }
+std::string printed_symbol_name(const std::string& name) { return name; }
 
 GiNaC::symbol FormulaSymbols::param(const std::string& name) {
-  const std::string printed = printed_symbol_name(name);
+  // a parameter printed under the name of the step or of the state would make the formulas ambiguous
+  require(name != "h" && name != "t" && name != "z" && !state_name(name, static_cast<int>(q.size())),
+          "parameter '" + name + "': the formulas of the modified equation use " + name +
+              " for the step (h), the time (t), the Herglotz action (z) or the state (q1.., v1..): rename the parameter");
   for (const auto& p : params)
-    if (p.get_name() == printed) return p;
-  params.emplace_back(printed, tex_name(name));
+    if (p.get_name() == name) return p;
+  params.emplace_back(name, tex_name(name));
   return params.back();
 }
 
@@ -88,27 +99,78 @@ GiNaC::lst FormulaSymbols::all() const {
 
 namespace {
 
-enum class Style { text, mathematica };
+enum class Style { text, mathematica, latex };
 
 // Precedence of what is being printed into: 0 a sum's term, 1 a product's factor, 2 a power's base.
+//
+// The order of a sum's terms and of a product's factors is the printer's, not GiNaC's: GiNaC orders them by
+// hashes of its symbols' serial numbers, which depend on how many symbols the process made before, so the same
+// formula printed in two calls (or two processes) could read differently. Here terms and factors are sorted by
+// their text form (the unsigned term; numbers first), the same order in every style.
 struct Printer {
   Style style;
 
-  std::string number(const GiNaC::numeric& x) const {
+  static std::string key(const ex& e) { return Printer{Style::text}.print(e, 0); }
+
+  static std::vector<ex> sorted(std::vector<ex> xs) {
+    std::vector<std::pair<std::string, ex>> keyed;
+    for (const auto& x : xs) keyed.emplace_back(key(x), x);
+    std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t i = 0; i < xs.size(); ++i) xs[i] = keyed[i].second;
+    return xs;
+  }
+
+  std::string open() const { return style == Style::latex ? "\\left(" : "("; }
+  std::string close() const { return style == Style::latex ? "\\right)" : ")"; }
+  std::string paren(const std::string& s) const { return open() + s + close(); }
+  std::string times() const { return style == Style::latex ? " " : "*"; }
+
+  std::string integer(const GiNaC::numeric& x) const {
     std::ostringstream os;
-    if (!x.is_rational()) throw std::domain_error("formula printer: an inexact number in a formula");
     os << x;
     return os.str();
+  }
+
+  std::string number(const GiNaC::numeric& x) const {
+    if (!x.is_rational()) throw std::domain_error("formula printer: an inexact number in a formula");
+    if (style == Style::latex && !x.is_integer()) {
+      const GiNaC::numeric a = GiNaC::abs(x);
+      return (x.is_negative() ? "-" : "") + std::string("\\frac{") + integer(a.numer()) + "}{" + integer(a.denom()) + "}";
+    }
+    return integer(x);
+  }
+
+  // Mathematica reserves names that begin with a capital (its built-ins: I, E, N, C, D, ...) and has no '_' in
+  // names: such a parameter is written in the Global` context and with \[LetterSpace] for '_' (reversed by
+  // dropping "Global`" and writing '_' back).
+  static std::string mathematica_name(const std::string& name) {
+    std::string s = std::isupper(static_cast<unsigned char>(name[0])) ? "Global`" + name : name;
+    for (std::size_t i = 0; (i = s.find('_', i)) != std::string::npos;) s.replace(i, 1, "\\[LetterSpace]");
+    return s;
+  }
+
+  std::string symbol(const GiNaC::symbol& x) const {
+    if (style == Style::latex) return x.get_TeX_name();
+    return style == Style::mathematica ? mathematica_name(x.get_name()) : x.get_name();
   }
 
   std::string function(const GiNaC::function& f) const {
     const std::string name = f.get_name();
     std::vector<std::string> args;
     for (std::size_t i = 0; i < f.nops(); ++i) args.push_back(print(f.op(i), 0));
-    if (style == Style::text) {
-      std::string s = name + "(";
-      for (std::size_t i = 0; i < args.size(); ++i) s += (i ? ", " : "") + args[i];
-      return s + ")";
+    auto join = [&](const std::string& sep) {
+      std::string s;
+      for (std::size_t i = 0; i < args.size(); ++i) s += (i ? sep : "") + args[i];
+      return s;
+    };
+    if (style == Style::text) return name + "(" + join(", ") + ")";
+    if (style == Style::latex) {
+      static const std::set<std::string> tex{"sin", "cos", "tan", "exp", "log", "sinh", "cosh", "tanh"};
+      static const std::map<std::string, std::string> arc{{"asin", "\\arcsin"}, {"acos", "\\arccos"}, {"atan", "\\arctan"}};
+      if (name == "abs") return "\\left|" + join(", ") + "\\right|";
+      if (tex.count(name)) return "\\" + name + paren(join(", "));
+      const auto it = arc.find(name);
+      return (it != arc.end() ? it->second : "\\operatorname{" + name + "}") + paren(join(", "));
     }
     static const std::map<std::string, std::string> mma{{"sin", "Sin"},       {"cos", "Cos"},       {"tan", "Tan"},
                                                         {"exp", "Exp"},       {"log", "Log"},       {"sinh", "Sinh"},
@@ -117,9 +179,7 @@ struct Printer {
     if (name == "atan2") return "ArcTan[" + args[1] + ", " + args[0] + "]";  // Mathematica's ArcTan[x, y]
     const auto it = mma.find(name);
     if (it == mma.end()) throw std::domain_error("formula printer: no Mathematica name for " + name);
-    std::string s = it->second + "[";
-    for (std::size_t i = 0; i < args.size(); ++i) s += (i ? ", " : "") + args[i];
-    return s + "]";
+    return it->second + "[" + join(", ") + "]";
   }
 
   // |e| and its sign, for the signs between the terms of a sum.
@@ -130,6 +190,12 @@ struct Printer {
       return GiNaC::is_a<GiNaC::numeric>(c) && ex_to<GiNaC::numeric>(c).is_negative();
     }
     return false;
+  }
+
+  std::string factors(const std::vector<std::string>& fs) const {
+    std::string s;
+    for (std::size_t i = 0; i < fs.size(); ++i) s += (i ? times() : "") + fs[i];
+    return s;
   }
 
   std::string product(const ex& e, int level) const {
@@ -149,52 +215,62 @@ struct Printer {
     std::string s = c.is_negative() ? "-" : "";
     const GiNaC::numeric a = GiNaC::abs(c), an = a.numer(), ad = a.denom();
     std::vector<std::string> top;
-    if (an != 1 || num.empty()) top.push_back(number(an));
-    for (const auto& f : num) top.push_back(print(f, 1));
-    for (std::size_t i = 0; i < top.size(); ++i) s += (i ? "*" : "") + top[i];
+    if (an != 1 || num.empty()) top.push_back(integer(an));
+    for (const auto& f : sorted(num)) top.push_back(print(f, 1));
     std::vector<std::string> bottom;
-    if (ad != 1) bottom.push_back(number(ad));
-    for (const auto& f : den) bottom.push_back(print(f, 1));
-    if (!bottom.empty()) {
-      std::string b;
-      for (std::size_t i = 0; i < bottom.size(); ++i) b += (i ? "*" : "") + bottom[i];
-      s += "/" + (bottom.size() > 1 ? "(" + b + ")" : b);
+    if (ad != 1) bottom.push_back(integer(ad));
+    for (const auto& f : sorted(den)) bottom.push_back(print(f, 1));
+    if (style == Style::latex) {
+      s += bottom.empty() ? factors(top) : "\\frac{" + factors(top) + "}{" + factors(bottom) + "}";
+    } else {
+      s += factors(top);
+      if (!bottom.empty()) s += "/" + (bottom.size() > 1 ? paren(factors(bottom)) : factors(bottom));
     }
     const bool wrap = level >= 2 || (level >= 1 && c.is_negative());
-    return wrap ? "(" + s + ")" : s;
+    return wrap ? paren(s) : s;
   }
 
   std::string print(const ex& e, int level) const {
     if (GiNaC::is_a<GiNaC::numeric>(e)) {
       const auto& x = ex_to<GiNaC::numeric>(e);
       const std::string s = number(x);
-      return (level >= 1 && (x.is_negative() || !x.is_integer())) ? "(" + s + ")" : s;
+      const bool wrap = x.is_negative() ? level >= 1 : !x.is_integer() && level >= (style == Style::latex ? 2 : 1);
+      return wrap ? paren(s) : s;
     }
-    if (GiNaC::is_a<GiNaC::symbol>(e)) return ex_to<GiNaC::symbol>(e).get_name();
+    if (GiNaC::is_a<GiNaC::symbol>(e)) return symbol(ex_to<GiNaC::symbol>(e));
     if (GiNaC::is_a<GiNaC::constant>(e)) {
-      if (e.is_equal(GiNaC::Pi)) return style == Style::text ? "pi" : "Pi";
+      if (e.is_equal(GiNaC::Pi)) return style == Style::text ? "pi" : style == Style::latex ? "\\pi" : "Pi";
       throw std::domain_error("formula printer: an unknown constant");
     }
     if (GiNaC::is_a<GiNaC::add>(e)) {
+      std::vector<ex> terms;
+      for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(negative(e.op(i)) ? ex(-e.op(i)) : e.op(i));
+      std::vector<std::size_t> order(terms.size());
+      for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+      std::vector<std::string> keys;
+      for (const auto& t : terms) keys.push_back(key(t));
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
       std::string s;
-      for (std::size_t i = 0; i < e.nops(); ++i) {
-        const ex term = e.op(i);
-        const bool neg = negative(term);
-        const std::string body = print(neg ? ex(-term) : term, 0);
-        s += i == 0 ? (neg ? "-" + body : body) : (neg ? " - " : " + ") + body;
+      for (std::size_t j = 0; j < order.size(); ++j) {
+        const std::size_t i = order[j];
+        const bool neg = negative(e.op(i));
+        const std::string body = print(terms[i], 0);
+        s += j == 0 ? (neg ? "-" + body : body) : (neg ? " - " : " + ") + body;
       }
-      return level >= 1 ? "(" + s + ")" : s;
+      return level >= 1 ? paren(s) : s;
     }
     if (GiNaC::is_a<GiNaC::mul>(e)) return product(e, level);
     if (GiNaC::is_a<GiNaC::power>(e)) {
       const ex b = e.op(0), x = e.op(1);
       if (GiNaC::is_a<GiNaC::numeric>(x) && ex_to<GiNaC::numeric>(x).is_negative()) {
-        const std::string s = "1/" + print(GiNaC::pow(b, -x), 1);  // 1/b^k
-        return level >= 1 ? "(" + s + ")" : s;
+        const ex inverse = GiNaC::pow(b, -x);
+        const std::string s = style == Style::latex ? "\\frac{1}{" + print(inverse, 0) + "}" : "1/" + print(inverse, 1);
+        return level >= 1 && style != Style::latex ? paren(s) : s;
       }
       const bool plain = GiNaC::is_a<GiNaC::numeric>(x) && ex_to<GiNaC::numeric>(x).is_pos_integer();
-      const std::string s = print(b, 2) + "^" + (plain ? print(x, 2) : "(" + print(x, 0) + ")");
-      return level >= 2 ? "(" + s + ")" : s;
+      const std::string s = style == Style::latex ? "{" + print(b, 2) + "}^{" + print(x, 0) + "}"
+                                                  : print(b, 2) + "^" + (plain ? print(x, 2) : paren(print(x, 0)));
+      return level >= 2 ? paren(s) : s;
     }
     if (GiNaC::is_a<GiNaC::function>(e)) return function(ex_to<GiNaC::function>(e));
     std::ostringstream os;
@@ -207,11 +283,7 @@ struct Printer {
 
 std::string formula_text(const ex& e) { return Printer{Style::text}.print(e, 0); }
 std::string formula_mathematica(const ex& e) { return Printer{Style::mathematica}.print(e, 0); }
-std::string formula_latex(const ex& e) {
-  std::ostringstream os;
-  os << GiNaC::latex << e;
-  return os.str();
-}
+std::string formula_latex(const ex& e) { return Printer{Style::latex}.print(e, 0); }
 
 ex display_form(const ex& e) {
   const ex nd = simplify_coefficient(e).numer_denom();

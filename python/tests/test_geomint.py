@@ -320,13 +320,14 @@ def test_modified_formulas_of_a_defined_system():
     f = duffing().modified_formulas("la", order=2)
     assert f["K"] == 2 and not f["stopped"]
     rows = {(r["quantity"], r["k"]): r["text"] for r in f["rows"]}
-    q, qdot, alpha, b, h = sympy.symbols("q qdot alpha b h")
+    q, qdot, alpha, b, h = sympy.symbols("q1 v1 alpha b h")
+    syms = {"q1": q, "v1": qdot, "alpha": alpha, "b": b, "h": h}
     # F_0 is the continuous equation: q'' = -q - b q^3 - alpha q'
-    assert sympy.simplify(sympy.sympify(rows[("F", 0)]) - (-q - b * q**3 - alpha * qdot)) == 0
+    assert sympy.simplify(sympy.sympify(rows[("F", 0)], locals=syms) - (-q - b * q**3 - alpha * qdot)) == 0
     # F_1 is the numeric coefficient at the same point (the formula evaluated at the parameters' values)
     point = duffing().modified_equation("la", order=2, q=[0.7], v=[0.2])
     values = dict(f["values"])
-    f1 = sympy.sympify(rows[("F", 1)]).subs({q: 0.7, qdot: 0.2, alpha: values["alpha"], b: values["b"]})
+    f1 = sympy.sympify(rows[("F", 1)], locals=syms).subs({q: 0.7, qdot: 0.2, alpha: values["alpha"], b: values["b"]})
     assert abs(float(f1) - point["F"][1, 0]) < 1e-14 * (1 + abs(point["F"][1, 0]))
 
 

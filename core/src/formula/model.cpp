@@ -453,6 +453,14 @@ class ModelCompiler {
     if (name == "t" || name == "z") return "is a variable (t: time, z: the Herglotz action)";
     if (name == "pi") return "is the number pi";
     if (name == "L" || name == "E") return "names the " + std::string(name == "L" ? "Lagrangian" : "energy");
+    // the formulas of the modified equations print the step as h, and sympy parses them as Python
+    if (name == "h") return "is the step of the modified equations' formulas (name the parameter otherwise, e.g. step)";
+    static const std::unordered_set<std::string> python{"False", "None", "True", "and", "as", "assert", "async", "await",
+                                                        "break", "class", "continue", "def", "del", "elif", "else", "except",
+                                                        "finally", "for", "from", "global", "if", "import", "in", "is",
+                                                        "lambda", "nonlocal", "not", "or", "pass", "raise", "return", "try",
+                                                        "while", "with", "yield"};
+    if (python.count(name)) return "is a Python keyword (sympy could not read the formulas printed with it)";
     Fn f;
     if (find_fn(name, f)) return "is a function";
     if ((coordinate_name(name, 'q', k) || coordinate_name(name, 'v', k)) && k <= n)

@@ -53,10 +53,10 @@ struct ModifiedAgreement {
                            // start's continuous momentum along A^T)
 };
 
-// The modified equation as formulas (one row per quantity and order), printed three ways: `text` (sympy's
-// sympify reads it: '^' powers, exact rationals a/b, sin(q)), `mathematica` (ToExpression reads it: Sin[q]) and
-// `latex`. Symbols: t, h, z, q (qN for component N of several), qdot (qdotN), and the system's parameters by
-// their command-line names (a name sympy or Mathematica reserve, such as I, gets a trailing 'p').
+// The modified equation as formulas (one row per quantity and order), printed three ways: `text` (define_system
+// and sympy's parse_expr read it: '^' powers, exact rationals a/b, sin(q1)), `mathematica` (ToExpression: Sin[q1])
+// and `latex`. Symbols: t, h, z, q1..qn, v1..vn (the velocities), and the system's parameters by their own names
+// (docs/formulas.md, "Names": Mathematica's column writes a capitalized one in Global`).
 struct FormulaRow {
   std::string quantity;  // F<i>, Z, mu<c>, phi<c>, L (modified Lagrangian), Fmod<i> (modified force)
   int k = 0;             // the power of h

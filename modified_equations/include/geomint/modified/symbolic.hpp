@@ -75,17 +75,17 @@ struct FormulaSymbols {
   std::vector<GiNaC::symbol> q, v;  // positions and velocities q'
   std::vector<GiNaC::symbol> params;
   explicit FormulaSymbols(int n);
-  // A parameter's symbol, made once per name (reserved names of sympy or Mathematica get a trailing 'p').
+  // A parameter's symbol, made once per name; InputError for h, t, z, q<i>, v<i> (the formulas' own names).
   GiNaC::symbol param(const std::string& name);
   GiNaC::lst all() const;  // every symbol, for a parser's table
 };
 
-// The name a formula prints for a system parameter (a name sympy or Mathematica reserve gets a trailing 'p').
+// The name a formula prints for a system parameter: its own (symbolic.cpp's printers escape for Mathematica).
 std::string printed_symbol_name(const std::string& name);
 
-// Printers. `text`: sympy reads it with sympify (powers as '^', which sympify's default convert_xor reads;
-// names as in FormulaSymbols), Mathematica with ToExpression after the function names are capitalized — which
-// `mathematica` does: Sin[q], exact rationals a/b in both. `latex`: GiNaC's LaTeX printer (\frac, \dot{q}).
+// Printers, one order of terms in all (sorted by text, not GiNaC's serial-dependent order). `text`: the formula
+// language (define_system reads it; sympy's parse_expr with the names as local symbols); `mathematica`: Sin[q1],
+// capitalized names in Global`, exact rationals a/b in both; `latex`: \frac, \dot{q}_{1}. docs/formulas.md.
 std::string formula_text(const GiNaC::ex& e);
 std::string formula_mathematica(const GiNaC::ex& e);
 std::string formula_latex(const GiNaC::ex& e);
