@@ -64,6 +64,16 @@ def test_the_same_call_gives_the_same_text():
         assert (x["text"], x["mathematica"], x["latex"]) == (y["text"], y["mathematica"], y["latex"])
 
 
+def test_the_text_does_not_depend_on_the_order_the_parameters_were_declared():
+    # GiNaC orders a sum's terms by hashes of its symbols' serial numbers, which follow the order the symbols are
+    # made in: declared in reverse, the same system would print its terms in another order without the sort
+    a = damped("forward").modified_formulas("la", order=2)
+    b = damped("reversed", parameters=dict(reversed(list(PARAMS.items())))).modified_formulas("la", order=2)
+    assert len(a["rows"]) == len(b["rows"]) == 9
+    for x, y in zip(a["rows"], b["rows"]):
+        assert (x["text"], x["mathematica"], x["latex"]) == (y["text"], y["mathematica"], y["latex"])
+
+
 @pytest.mark.parametrize("name", ["h", "lambda", "if"])
 def test_a_clashing_parameter_name_is_refused_naming_it(name):
     params = {**PARAMS, name: 0.5}
