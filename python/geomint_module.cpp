@@ -826,7 +826,7 @@ PYBIND11_MODULE(_geomint, m) {
            "T), T}; run k has the bits of integrate() from its values")
       .def("reference", &reference, py::arg("h"), py::arg("N") = 0, py::arg("kind") = "auto", py::arg("tol") = 1e-13,
            py::arg("params") = py::dict(), py::arg("progress") = py::none(),
-           "the reference solution on t_j = j h (closed form, or Boost.Odeint)")
+           "the reference solution on t_j = t0 + j h (closed form, or Boost.Odeint)")
       .def("convergence", &convergence, py::arg("schemes") = std::vector<std::string>{}, py::arg("h_max") = 0.1,
            py::arg("h_min") = 0.003, py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reference") = "auto",
            py::arg("tol") = 1e-13, py::arg("norm") = "max", py::arg("budget") = true, py::arg("progress") = py::none(),

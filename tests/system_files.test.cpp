@@ -341,7 +341,7 @@ TEST_CASE("t0 shifts a time-dependent forcing: the run from t0 = 2 is the run of
     }
     // the two clocks differ by the rounding of 2 + j h against j h (a few ulps of t in the forcing's phase)
     CHECK(same < 1e-12);
-    CHECK(other > 0.1);  // the forcing's phase matters: a run that ignored t0 would be this one
+    CHECK(other > 0.05);  // measured 0.13: the forcing's phase matters, and a run that ignored t0 would be this one
   }
   // the Odeint reference starts at t0 too
   const Reference ra = late->reference({}, 0.01, 600, ReferenceKind::odeint, 1e-12),
