@@ -645,9 +645,10 @@ py::dict surrogate_info(const System& s) {
 }
 
 // A strict system is checked at its definition, at its default parameters: an inconsistent Herglotz form is an
-// InputError here, not at its first contact run (validate checks it again at each run's own values).
+// InputError here, not at its first contact run (validate checks it again at each run's own values). So is a system
+// with an exact solution, always: a solution that does not solve the equations is refused where it is written.
 System defined(System s, bool strict_herglotz) {
-  if (strict_herglotz) s.info().validate({});
+  if (strict_herglotz || s.info().has_exact) s.info().validate({});
   return s;
 }
 
@@ -655,7 +656,8 @@ System define_system(const std::string& name, int coordinates, const py::object&
                      const py::object& force, const py::object& energy, const py::object& constraints, bool holonomic,
                      const py::dict& parameters, const py::dict& definitions, const py::object& initial_q,
                      const py::object& initial_v, const std::string& description, bool strict_herglotz,
-                     const py::object& time_transform) {
+                     const py::object& time_transform, const py::object& t0, const py::object& z0,
+                     const py::object& exact_q, const py::object& exact_v) {
   formula::SystemDescription d;
   d.name = name;
   d.description = description;
@@ -687,6 +689,15 @@ System define_system(const std::string& name, int coordinates, const py::object&
   d.initial_q = formula_list(initial_q, "q");
   d.initial_v = formula_list(initial_v, "v");
   if (!time_transform.is_none()) d.time_transform = formula_of(time_transform, "time_transform");
+  if (!t0.is_none()) d.initial_t = formula_of(t0, "t0");
+  if (!z0.is_none()) d.initial_z = formula_of(z0, "z0");
+  d.exact_q = formula_list(exact_q, "exact q");
+  d.exact_v = formula_list(exact_v, "exact v");
+  require(d.exact_q.empty() || static_cast<int>(d.exact_q.size()) == coordinates,
+          "define_system(" + name + "): exact_q needs " + std::to_string(coordinates) + " formulas, got " +
+              std::to_string(d.exact_q.size()));
+  require(d.exact_v.empty() || d.exact_v.size() == d.exact_q.size(),
+          "define_system(" + name + "): exact_v needs one formula per exact_q (or none: the derivatives of exact_q)");
   formula::CompileOptions options;
   options.strict_herglotz = strict_herglotz;
   return defined(System(formula::compile_model(d, options)), strict_herglotz);
@@ -844,7 +855,7 @@ PYBIND11_MODULE(_geomint, m) {
            "T), T}; run k has the bits of integrate() from its values")
       .def("reference", &reference, py::arg("h"), py::arg("N") = 0, py::arg("kind") = "auto", py::arg("tol") = 1e-13,
            py::arg("params") = py::dict(), py::arg("progress") = py::none(),
-           "the reference solution on t_j = j h (closed form, or Boost.Odeint)")
+           "the reference solution on t_j = t0 + j h (closed form, or Boost.Odeint)")
       .def("convergence", &convergence, py::arg("schemes") = std::vector<std::string>{}, py::arg("h_max") = 0.1,
            py::arg("h_min") = 0.003, py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reference") = "auto",
            py::arg("tol") = 1e-13, py::arg("norm") = "max", py::arg("budget") = true, py::arg("progress") = py::none(),
@@ -905,11 +916,14 @@ PYBIND11_MODULE(_geomint, m) {
         py::arg("force") = py::none(), py::arg("energy") = py::none(), py::arg("constraints") = py::none(),
         py::arg("holonomic") = false, py::arg("parameters") = py::dict(), py::arg("definitions") = py::dict(),
         py::arg("initial_q") = py::none(), py::arg("initial_v") = py::none(), py::arg("description") = "",
-        py::arg("strict_herglotz") = false, py::arg("time_transform") = py::none(),
+        py::arg("strict_herglotz") = false, py::arg("time_transform") = py::none(), py::arg("t0") = py::none(),
+        py::arg("z0") = py::none(), py::arg("exact_q") = py::none(), py::arg("exact_v") = py::none(),
         "a system from its formulas (strings; numbers for constants): the Lagrangian L, the Herglotz Lagrangian, the "
         "force (n formulas), the constraint rows (phi: linear in v1..vn; or holonomic g), parameters {name: value or "
         "(value, doc)} with T the horizon, definitions, the initial q and v, and a time transformation dt = g dsigma "
-        "(time_transform = g, a formula in t, q1.., v1..: the system steps in sigma with the time t as coordinate n + 1)");
+        "(time_transform = g, a formula in t, q1.., v1..: the system steps in sigma with the time t as coordinate n + 1), "
+        "the start t0 and initial action z0 (constants; 0 by default), and an exact solution exact_q (n formulas in t, "
+        "checked against the equations here; exact_v: its velocities, else their derivatives) for reference='exact'");
   m.def("_seconds_of_run", &seconds_of_run, py::arg("system"), py::arg("scheme"), py::arg("h"), py::arg("params") = py::dict(),
         py::arg("path") = "fast", py::arg("every") = 1, py::arg("reps") = 5,
         "median seconds of the registry's run timed in C++ (the bench's reference for integrate called from Python)");

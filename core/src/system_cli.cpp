@@ -185,6 +185,9 @@ std::vector<std::pair<std::string, std::string>> SystemOptions::header() const {
       if (!l.time_transform.empty())
         out.emplace_back("time_transform", "dt = g dsigma, g = " + l.time_transform + " (the time t is the last coordinate)");
     }
+  // the start of a system that does not start at t = 0 (a header system always does)
+  if (system_->initial_time)
+    if (const double t0 = system_->initial_time({}); t0 != 0) out.emplace_back("t0", format_number(t0) + " (the runs' t_j = t0 + j h)");
   for (std::size_t i = 0; i < given_.size(); ++i)
     out.emplace_back(system_->params[i].name,
                      given_[i].empty() ? format_number(system_->params[i].value) : format_list(given_[i]));

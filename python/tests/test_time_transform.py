@@ -38,3 +38,14 @@ def test_define_system_takes_a_monitor_and_refuses_a_bad_one_with_its_place():
     with pytest.raises(geomint.InputError) as e:
         geomint.define_system("osc", 1, time_transform="q1 - 1", **kw).integrate("la", h=0.1)
     assert "the monitor g = dt/dsigma is 0 at the initial data" in str(e.value)
+
+
+def test_a_time_transformed_run_starts_at_t0():
+    # Lane-Emden from t0 = 1 with dt = t dsigma (t = e^sigma): g(t0) = 1, where g(0) = 0 would be refused
+    le = geomint.load_system(os.path.join(SYSTEMS, "lane-emden.geomint"), time_transform="t")
+    assert not le.has_exact  # the runs step in sigma; the file's solution is checked on the physical system
+    r = le.integrate("la-midpoint", h=0.01, params={"T": 2}, path="generic")
+    t, q = r["q"][:, 1], r["q"][:, 0]
+    assert t[0] == 1 and abs(t[-1] - np.exp(2)) < 1e-2
+    # against the exact solution sin(t)/t at the run's own times: second order in sigma, h = 0.01
+    assert np.max(np.abs(q - np.sin(t) / t)) < 1e-4

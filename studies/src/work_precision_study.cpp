@@ -53,6 +53,13 @@ double relative_size_floor(const SystemInfo& sys, const WorkPrecisionOptions& op
 namespace {
 
 // One combination of parameters: its equations, reference and every point.
+// A baseline runs on its own clock from 0: the equations of a system that starts at t0 are read at t0 + that clock.
+Rhs on_own_clock(const SystemInfo& sys, const ParamValues& pv, Rhs f) {
+  const double t0 = sys.initial_time ? sys.initial_time(pv) : 0.0;
+  if (t0 == 0) return f;
+  return [f = std::move(f), t0](double t, const double* x, double* dx) { f(t0 + t, x, dx); };
+}
+
 struct Combination {
   const SystemInfo& sys;
   const ParamValues& pv;
@@ -165,6 +172,7 @@ struct Combination {
       b.T = T;
     }
     const bool at_steps = !rk4 && opt.at_steps;  // read against the closed form, not the reference
+    const double start = sys.initial_time ? sys.initial_time(pv) : 0.0;  // the baselines' clock starts at 0
     const long stride = ref_failure || at_steps ? 1 : ref.index(1, rk4 ? knob : h_out);
     const long every = rk4 && relative() ? ratio_of(h_out, knob) : 1;
     auto label = [&](bool measured) {
@@ -181,7 +189,7 @@ struct Combination {
           if (k > 0) err = std::max(err, distance(x, &ref.q[k * static_cast<std::size_t>(stride * n)], n, opt.norm));
           if (relative() && static_cast<long>(k) % every == 0) rel.add(static_cast<long>(k) / every, x);
         } else if (at_steps) {
-          ts.push_back(t);
+          ts.push_back(start + t);
           qs.insert(qs.end(), x, x + n);
         } else {
           err = std::max(err, distance(x, &ref.q[k * static_cast<std::size_t>(stride * n)], n, opt.norm));
@@ -257,7 +265,7 @@ WorkPrecisionStudy work_precision_study(const SystemInfo& sys, const std::vector
     // every scheme and fixed-step baseline is measured on its own grid, a sub-grid of the reference's
     const double h_ref = reference_step(sys, opt.hs);
     Combination k{sys, pv, opt, static_cast<double>(c), T, sys.dof,
-                  opt.hand_written ? sys.ode_rhs(pv) : sys.ode(pv), sys.ode_initial_state(pv, opt.hand_written),
+                  on_own_clock(sys, pv, opt.hand_written ? sys.ode_rhs(pv) : sys.ode(pv)), sys.ode_initial_state(pv, opt.hand_written),
                   {}, {}, *std::max_element(opt.hs.begin(), opt.hs.end()), {}};
     try {
       k.ref = sys.reference(pv, h_ref, step_count(h_ref, T), opt.reference, opt.reference_tol);

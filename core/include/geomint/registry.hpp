@@ -99,7 +99,7 @@ struct Expectations {
   }
 };
 
-// A reference solution on the grid t_j = j h, j = 0..N.
+// A reference solution on the grid t_j = t0 + j h, j = 0..N (t0: the system's initial_time).
 struct Reference {
   std::string kind;  // what it is ("closed form", "Boost.Odeint dopri5 ... tol ...")
   double h = 0;
@@ -129,6 +129,7 @@ struct SystemInfo {
   // Operations on this system (function pointers into its generated translation unit).
   void (*validate)(const ParamValues&) = nullptr;  // InputError naming the first bad value
   double (*horizon)(const ParamValues&) = nullptr; // T
+  double (*initial_time)(const ParamValues&) = nullptr;  // t0: every run starts there, t_j = t0 + j h
   // N = T/h steps of `scheme`, keeping every `every`-th step.
   Run (*run)(const ParamValues&, const std::string& scheme, double h, Path, long every) = nullptr;
   // max_j |q_j - q_ref(t_j)| (max norm over components) without storing the run.
@@ -141,7 +142,7 @@ struct SystemInfo {
   // max_j |(shift + q_j)/(shift + q_ref(t_j)) - 1| (the paper's regularized relative error, component 0).
   double (*max_relative_error)(const ParamValues&, const std::string& scheme, double h, Path, const Reference&,
                                double shift) = nullptr;
-  // The reference on t_j = j h, j = 0..N: the closed form, or Boost.Odeint (dopri5, dense output, tolerance
+  // The reference on t_j = t0 + j h, j = 0..N: the closed form, or Boost.Odeint (dopri5, dense output, tolerance
   // tol) on the equations derived from L, F and Phi by automatic differentiation (odeint) or on the system's
   // hand-written rhs (odeint_rhs).
   Reference (*reference)(const ParamValues&, double h, long N, ReferenceKind, double tol) = nullptr;

@@ -258,7 +258,10 @@ void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
             M.initial_at[static_cast<std::size_t>(i)].place() + ": initial " + (i < n ? "q" : "v") + std::to_string(i % n + 1) +
                 " is not finite (" + show(x0[static_cast<std::size_t>(i)]) + ")");
   const VectorXd q0 = Eigen::Map<const VectorXd>(x0.data(), n), v0 = Eigen::Map<const VectorXd>(x0.data() + n, n);
-  const double t0 = 0;
+  const std::vector<double> start = F.constants(M.start);
+  const double t0 = start[0];
+  require(std::isfinite(t0), M.start_at.place() + ": initial t0 is not finite (" + show(t0) + ")");
+  require(std::isfinite(start[1]), M.start_at.place() + ": initial z0 is not finite (" + show(start[1]) + ")");
   if (M.m > 0) {
     const MatrixXd A = F.constraint_matrix(t0, q0);
     double smin = 0, smax = 0;
@@ -274,7 +277,7 @@ void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
         for (int k = 0; k < n; ++k) scale += std::abs(A(r, k) * q0(k));
         require(std::abs(g[static_cast<std::size_t>(r)]) <= 1e-10 * scale,
                 M.constraint_at[static_cast<std::size_t>(r)].place() + ": the initial position q0 = " + show_vec(q0) +
-                    " is off the holonomic constraint: g" + std::to_string(r + 1) + "(0, q0) = " + show(g[static_cast<std::size_t>(r)]));
+                    " is off the holonomic constraint: g" + std::to_string(r + 1) + "(t0, q0) = " + show(g[static_cast<std::size_t>(r)]));
       }
     }
   }
@@ -308,6 +311,77 @@ void validate_model(const FormulaModel& M, const std::vector<double>& pv) {
     const std::string why = herglotz_mismatch(M, pv);
     if (!why.empty()) throw InputError(why);
   }
+  if (M.has_exact()) {
+    const std::string why = exact_mismatch(M, pv);
+    if (!why.empty()) throw InputError(why);
+  }
+}
+
+// The exact solution against the system: its start against the initial data at t0, and at 17 times evenly over
+// [t0, t0 + T] its q'' against the Lagrange-d'Alembert equations at its (t, q, q') and its q' against the
+// constraints. Both sides are exact to round-off (the derivatives of the formulas are taken symbolically, those of L
+// by automatic differentiation), so a true solution leaves a residual of the order of eps times the size of the terms
+// (and the conditioning of the velocity Hessian); a wrong one -- a misprinted coefficient, sign or phase -- leaves
+// one of the order of the terms. The bound, 1e-8 of the largest |q|, |q'|, |q''| seen (of the exact solution and of
+// the equations), keeps eight digits for conditioning and still refuses a constant wrong in its eighth digit.
+std::string exact_mismatch(const FormulaModel& M, const std::vector<double>& pv) {
+  if (!M.has_exact()) return "";
+  const Formulas F(M, pv);
+  const int n = M.n;
+  const double T = pv[static_cast<std::size_t>(M.parameter_offset() + M.parameter_index("T"))];
+  const double t0 = F.constants(M.start)[0];
+  const std::vector<double> x0 = F.constants(M.initial);
+  const VectorXd q0 = Eigen::Map<const VectorXd>(x0.data(), n);
+  const VectorXd v0 = F.consistent_velocity(t0, q0, Eigen::Map<const VectorXd>(x0.data() + n, n));
+  constexpr int samples = 16;
+  constexpr double rel = 1e-8;
+  struct Sample {
+    double t;
+    VectorXd q, v, a, aL, phi;
+  };
+  std::vector<Sample> at;
+  double scale = std::max(q0.lpNorm<Eigen::Infinity>(), v0.lpNorm<Eigen::Infinity>());
+  const VectorXd none = VectorXd::Zero(n);
+  for (int k = 0; k <= samples; ++k) {
+    Sample s;
+    s.t = k == samples ? t0 + T : t0 + T * k / samples;
+    const std::vector<double> x = F.values(M.exact, s.t, none, none, 0);
+    s.q = Eigen::Map<const VectorXd>(x.data(), n);
+    s.v = Eigen::Map<const VectorXd>(x.data() + n, n);
+    s.a = Eigen::Map<const VectorXd>(x.data() + 2 * n, n);
+    if (!s.q.allFinite() || !s.v.allFinite() || !s.a.allFinite())
+      return M.exact_at[0].place() + ": the exact solution (or its derivatives) is not finite at t = " + show(s.t) +
+             " (q = " + show_vec(s.q) + ", q' = " + show_vec(s.v) + "): it must hold on [t0, t0 + T] = [" + show(t0) + ", " +
+             show(t0 + T) + "]";
+    const ContinuousAcceleration l = F.acceleration(s.t, s.q, s.v, 0, false);
+    s.aL = Eigen::Map<const VectorXd>(l.a.data(), n);
+    s.phi = M.m > 0 ? VectorXd(F.constraint_matrix(s.t, s.q) * s.v + F.constraint_offset(s.t, s.q)) : VectorXd();
+    scale = std::max({scale, s.q.lpNorm<Eigen::Infinity>(), s.v.lpNorm<Eigen::Infinity>(), s.a.lpNorm<Eigen::Infinity>(),
+                      s.aL.allFinite() ? s.aL.lpNorm<Eigen::Infinity>() : 0.0});
+    at.push_back(s);
+  }
+  const double tol = rel * scale;
+  const std::string bound = " (allowed: " + show(tol) + ", 1e-8 of the largest |q|, |q'|, |q''| seen)";
+  for (int i = 0; i < 2 * n; ++i) {
+    const double want = i < n ? q0(i) : v0(i - n), got = i < n ? at[0].q(i) : at[0].v(i - n);
+    if (!(std::abs(got - want) <= tol))
+      return M.exact_at[static_cast<std::size_t>(i)].place() + ": the exact solution does not start at the initial data: at t0 = " +
+             show(t0) + " its " + (i < n ? "q" : "q'") + std::to_string(i % n + 1) + " is " + show(got) + ", the initial " +
+             (i < n ? "q" : "v") + std::to_string(i % n + 1) + " is " + show(want) + bound;
+  }
+  for (const Sample& s : at) {
+    const VectorXd r = s.a - s.aL;
+    Eigen::Index worst = 0;
+    const double res = s.aL.allFinite() ? r.cwiseAbs().maxCoeff(&worst) : missing_value;
+    if (!(res <= tol))
+      return M.exact_at[static_cast<std::size_t>(worst)].place() + ": the exact solution does not solve the equations: at t = " +
+             show(s.t) + ", q = " + show_vec(s.q) + ", q' = " + show_vec(s.v) + " its q'' = " + show_vec(s.a) +
+             ", the equations give " + show_vec(s.aL) + ": residual " + show(res) + bound;
+    if (M.m > 0 && !(s.phi.lpNorm<Eigen::Infinity>() <= tol))
+      return M.exact_at[0].place() + ": the exact solution leaves the constraints: at t = " + show(s.t) + " Phi = " +
+             show_vec(s.phi) + bound;
+  }
+  return "";
 }
 
 // Sample points on three short trajectories of the Herglotz equations (from the initial data and from two
@@ -326,6 +400,8 @@ std::string herglotz_mismatch(const FormulaModel& M, const std::vector<double>& 
   const double tau = std::min(T, 1.0);
   const int steps = 64, every = 8;
   const std::vector<double> x0 = F.constants(M.initial);
+  const std::vector<double> t0z0 = F.constants(M.start);
+  const double t0 = t0z0[0];  // the trajectories start where the runs do (the equations may be singular before)
   using State = std::vector<double>;
   auto rhs = [&](const State& x, State& dx, double t) {
     const VectorXd q = Eigen::Map<const VectorXd>(x.data(), n), v = Eigen::Map<const VectorXd>(x.data() + n, n);
@@ -351,14 +427,15 @@ std::string herglotz_mismatch(const FormulaModel& M, const std::vector<double>& 
         if (!M.holonomic) q(i) += s * (1 + std::abs(q(i)));  // a holonomic system stays on g = 0
         v(i) += s * (1 + std::abs(v(i)));
       }
-    v = F.consistent_velocity(0, q, v);
+    v = F.consistent_velocity(t0, q, v);
     State x(static_cast<std::size_t>(2 * n + 1), 0.0);
+    x[static_cast<std::size_t>(2 * n)] = t0z0[1];
     for (int i = 0; i < n; ++i) {
       x[static_cast<std::size_t>(i)] = q(i);
       x[static_cast<std::size_t>(n + i)] = v(i);
     }
     for (int j = 0; j <= steps; ++j) {
-      const double t = tau * j / steps;
+      const double t = t0 + tau * j / steps;
       if (!std::all_of(x.begin(), x.end(), [](double y) { return std::isfinite(y); })) break;
       if (j % every == 0) {
         Sample s;

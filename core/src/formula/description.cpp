@@ -54,7 +54,7 @@ bool indexed(const std::string& key, const std::string& prefix, int& index) {
   return true;
 }
 
-const char* const sections[] = {"system", "parameters", "definitions", "dynamics", "constraints", "initial"};
+const char* const sections[] = {"system", "parameters", "definitions", "dynamics", "constraints", "initial", "exact"};
 
 class Reader {
  public:
@@ -109,7 +109,7 @@ class Reader {
       bool known = false;
       for (const char* s : sections) known = known || name == s;
       if (!known)
-        fail("unknown section [" + name + "] (sections: [system] [parameters] [definitions] [dynamics] [constraints] [initial])");
+        fail("unknown section [" + name + "] (sections: [system] [parameters] [definitions] [dynamics] [constraints] [initial] [exact])");
       if (seen_sections_.count(name)) fail("section [" + name + "] appears twice (first at line " + std::to_string(seen_sections_[name]) + ")");
       seen_sections_[name] = line_;
       section_ = name;
@@ -194,8 +194,19 @@ class Reader {
         put(q0_, i, Slot{f, line_});
       else if (indexed(key, "v", i))
         put(v0_, i, Slot{f, line_});
+      else if (key == "t0")
+        d_.initial_t = f;
+      else if (key == "z0")
+        d_.initial_z = f;
       else
-        fail("unknown key '" + key + "' in [initial] (keys: q1, q2, ..., v1, v2, ...)");
+        fail("unknown key '" + key + "' in [initial] (keys: q1, q2, ..., v1, v2, ..., t0, z0)");
+    } else if (section_ == "exact") {
+      if (indexed(key, "q", i))
+        put(xq_, i, Slot{f, line_});
+      else if (indexed(key, "v", i))
+        put(xv_, i, Slot{f, line_});
+      else
+        fail("unknown key '" + key + "' in [exact] (keys: q1, q2, ... as formulas in t; optionally v1, v2, ...)");
     }
   }
 
@@ -254,13 +265,28 @@ class Reader {
         whole("[initial] has no v" + std::to_string(i + 1) + " (give q1..q" + std::to_string(n) + " and v1..v" + std::to_string(n) + ")");
     }
     if (!d_.lagrangian.given()) whole("[dynamics] has no Lagrangian 'L = ...'");
+    d_.exact_q = rows(xq_, "q", n, dims);
+    d_.exact_v = rows(xv_, "v", n, dims);
+    if (!xv_.empty() && xq_.empty()) {
+      line_ = xv_.front().line;
+      fail("[exact] gives velocities but no positions: give q1..q" + std::to_string(n));
+    }
+    if (!xq_.empty() && static_cast<int>(d_.exact_q.size()) != n) {
+      line_ = xq_.back().line;
+      fail("[exact] gives q1..q" + std::to_string(d_.exact_q.size()) + " but " + dims + ": give q1..q" + std::to_string(n));
+    }
+    if (!xv_.empty() && static_cast<int>(d_.exact_v.size()) != n) {
+      line_ = xv_.back().line;
+      fail("[exact] gives v1..v" + std::to_string(d_.exact_v.size()) + " but " + dims +
+           ": give v1..v" + std::to_string(n) + ", or none (they are then the derivatives of the q's)");
+    }
   }
 
   SystemDescription d_;
   int line_ = 0;
   std::string section_;
   std::map<std::string, int> seen_sections_, keys_;
-  std::vector<Slot> force_, phi_, g_, q0_, v0_;
+  std::vector<Slot> force_, phi_, g_, q0_, v0_, xq_, xv_;
 };
 
 }  // namespace

@@ -144,6 +144,7 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
   entry.name = model->name;
   entry.description = model->description;
   entry.has_herglotz = model->has_herglotz();
+  entry.has_exact = model->has_exact();
   entry.params.clear();
   for (const auto& p : model->parameters) entry.params.push_back({p.name, p.value, p.doc});
   if (!model->has_herglotz())  // the shape compiles them; this model cannot run them
@@ -157,7 +158,7 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
                                             return true;
                                           }),
                            entry.compositions.end());
-  return EntrySlots<SystemInfo>::acquire<&SystemInfo::validate, &SystemInfo::horizon, &SystemInfo::run, &SystemInfo::max_error,
+  return EntrySlots<SystemInfo>::acquire<&SystemInfo::validate, &SystemInfo::horizon, &SystemInfo::initial_time, &SystemInfo::run, &SystemInfo::max_error,
                                          &SystemInfo::max_relative_error, &SystemInfo::reference,
                                          &SystemInfo::time_run, &SystemInfo::ode, &SystemInfo::ode_initial_state,
                                          &SystemInfo::measure_run, &SystemInfo::ode_rhs, &SystemInfo::exact_positions,

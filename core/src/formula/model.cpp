@@ -229,7 +229,60 @@ class ModelCompiler {
       }
     }
 
-    if (tt_) transform(L, H, E, F, init);
+    // The start (t0, z0): constants, 0 where not given.
+    std::vector<int> start;
+    for (int k = 0; k < 2; ++k) {
+      const FormulaText& f = k == 0 ? d_.initial_t : d_.initial_z;
+      const std::string what = k == 0 ? "initial t0" : "initial z0";
+      if (!f.given()) {
+        start.push_back(ex_.number(0));
+        continue;
+      }
+      const int e = parse(f, what, Scope{false, false, defs_.size()});
+      forbid(e, ~std::uint32_t(0), f, what, "is not constant: the start is a number, parameters and definitions of parameters");
+      start.push_back(e);
+    }
+    M.start_at = d_.initial_t.given() ? d_.initial_t.where : d_.origin;
+
+    // The exact solution: q(t) as written, q'(t) as written or by differentiation, q''(t) for the check against the
+    // equations (checks.cpp).
+    // With a time transformation the solution is the physical model's (checked there); the runs, in sigma, have none.
+    std::vector<int> exact;
+    if (!d_.exact_q.empty() && !tt_) {
+      const std::uint32_t state = V.q_bits() | V.v_bits() | V.bit(V.z());
+      std::vector<int> q, v, a;
+      for (int i = 0; i < n; ++i) {
+        const FormulaText& f = d_.exact_q[static_cast<std::size_t>(i)];
+        const std::string what = "exact q" + std::to_string(i + 1);
+        const int e = parse(f, what, Scope{false, false, defs_.size()});
+        forbid(e, state, f, what, "depends on the state: an exact solution is a formula of t and the parameters");
+        q.push_back(e);
+        M.exact_at.push_back(f.where);
+      }
+      for (int i = 0; i < n; ++i) {
+        const bool given = !d_.exact_v.empty();
+        const FormulaText& f = given ? d_.exact_v[static_cast<std::size_t>(i)] : d_.exact_q[static_cast<std::size_t>(i)];
+        const std::string what = std::string("exact ") + (given ? "v" : "q") + std::to_string(i + 1);
+        int e = -1;
+        if (given) {
+          e = parse(f, what, Scope{false, false, defs_.size()});
+          forbid(e, state, f, what, "depends on the state: an exact solution is a formula of t and the parameters");
+        } else {
+          e = at(f, what, [&] { return ex_.derivative(q[static_cast<std::size_t>(i)], V.t()); });
+        }
+        v.push_back(e);
+        a.push_back(at(f, what, [&] { return ex_.derivative(e, V.t()); }));
+        M.exact_at.push_back(f.where);
+      }
+      exact = q;
+      exact.insert(exact.end(), v.begin(), v.end());
+      exact.insert(exact.end(), a.begin(), a.end());
+    }
+
+    if (tt_) {
+      transform(L, H, E, F, init, start[0]);
+      start[0] = ex_.number(0);  // the runs of the extended system start at sigma = 0; t0 is its coordinate t
+    }
 
     // atan2 only of constants: the series type of the modified equations has no atan2.
     if (tt_) no_state_atan2(L, d_.time_transform, "time_transform");
@@ -264,6 +317,7 @@ class ModelCompiler {
     if (H >= 0) M.herglotz = state({H}, d_.herglotz.where, "herglotz");
     if (E >= 0) M.energy = state({E}, d_.energy.where, "E");
     if (!F.empty()) M.force = state(F, d_.force[0].where, "F");
+    if (!exact.empty()) M.exact = state(exact, d_.exact_q[0].where, "the exact solution");
     if (M.m > 0) {
       const Where& w = d_.constraints[0].where;
       std::vector<int> A_columns;  // Eigen's layout: column-major
@@ -280,6 +334,9 @@ class ModelCompiler {
     }
     M.initial = at(d_.initial_q[0], "the initial data", [&] {
       return compile_constant_tape(ex_, init, table.numbers(), table.parameters());
+    });
+    M.start = at(d_.initial_t.given() ? d_.initial_t : d_.initial_z, "the start (t0, z0)", [&] {
+      return compile_constant_tape(ex_, start, table.numbers(), table.parameters());
     });
     std::vector<int> constant_defs;
     for (const auto& def : defs_)
@@ -321,7 +378,7 @@ class ModelCompiler {
   // whose solution from Q'(0) = (v0 g0, g0) is the physical motion at t(sigma), with w = kappa (t' - g) = 0.
   // Every formula was parsed with t as the graph's coordinate N and v_i as its velocity i; here v_i becomes
   // v_i / v_N in L, the Herglotz form, F, E and g.
-  void transform(int& L, int& H, int& E, std::vector<int>& F, std::vector<int>& init) {
+  void transform(int& L, int& H, int& E, std::vector<int>& F, std::vector<int>& init, int t0) {
     const Variables& V = ex_.variables();
     const int n = np_, N = V.n;
     const FormulaText& gt = d_.time_transform;
@@ -367,9 +424,9 @@ class ModelCompiler {
       // The force does no work in the extended space: Fbar . Q' = 0 (its power is the t-row's -F . q').
       F.push_back(ex_.neg(power));
     }
-    // Q(0) = (q0, 0), Q'(0) = (v0 g0, g0) with g0 = g(0, q0, v0).
+    // Q(0) = (q0, t0), Q'(0) = (v0 g0, g0) with g0 = g(t0, q0, v0).
     std::vector<int> at0(static_cast<std::size_t>(V.count()), -1);
-    at0[static_cast<std::size_t>(V.q(N - 1))] = ex_.number(0);
+    at0[static_cast<std::size_t>(V.q(N - 1))] = t0;
     for (int i = 0; i < n; ++i) {
       at0[static_cast<std::size_t>(V.q(i))] = init[static_cast<std::size_t>(i)];
       at0[static_cast<std::size_t>(V.v(i))] = init[static_cast<std::size_t>(n + i)];
@@ -377,7 +434,7 @@ class ModelCompiler {
     const int g0 = at(gt, what, [&] { return ex_.substitute(g, at0); });
     std::vector<int> out;
     for (int i = 0; i < n; ++i) out.push_back(init[static_cast<std::size_t>(i)]);
-    out.push_back(ex_.number(0));
+    out.push_back(t0);
     for (int i = 0; i < n; ++i) out.push_back(ex_.mul(init[static_cast<std::size_t>(n + i)], g0));
     out.push_back(g0);
     init = out;
@@ -433,6 +490,10 @@ class ModelCompiler {
     for (const auto& f : d_.constraints) formula(f, "constraint");
     for (const auto& f : d_.initial_q) formula(f, "initial q");
     for (const auto& f : d_.initial_v) formula(f, "initial v");
+    formula(d_.initial_t, "initial t0");
+    formula(d_.initial_z, "initial z0");
+    for (const auto& f : d_.exact_q) formula(f, "exact q");
+    for (const auto& f : d_.exact_v) formula(f, "exact v");
   }
 
   void require_given(const FormulaText& f, const std::string& what, const std::string& name) const {

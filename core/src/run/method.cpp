@@ -40,8 +40,12 @@ BaselineSetup baseline_setup(const Method& m, double knob, double T, const Metho
   return b;
 }
 
+// The baselines run on their own clock from 0: the equations are read at t0 + their t (a system that starts at t0).
 OdeRhs equations(const SystemInfo& sys, const ParamValues& pv, const MethodOptions& opt) {
-  return opt.hand_written && sys.has_rhs ? sys.ode_rhs(pv) : sys.ode(pv);
+  OdeRhs f = opt.hand_written && sys.has_rhs ? sys.ode_rhs(pv) : sys.ode(pv);
+  const double t0 = sys.initial_time ? sys.initial_time(pv) : 0.0;
+  if (t0 == 0) return f;
+  return [f = std::move(f), t0](double t, const double* x, double* dx) { f(t0 + t, x, dx); };
 }
 
 }  // namespace
@@ -65,7 +69,8 @@ MethodWork run_method(const SystemInfo& sys, const ParamValues& pv, const Method
     return w;
   }
   const bool hand = opt.hand_written && sys.has_rhs;
-  const BaselineObserver watch = [&](std::size_t, double t, const double* x) { observe(t, x, x + n); };
+  const double t0 = sys.initial_time ? sys.initial_time(pv) : 0.0;
+  const BaselineObserver watch = [&](std::size_t, double t, const double* x) { observe(t0 + t, x, x + n); };
   const BaselineCount c = run_baseline(baseline_setup(m, knob, T, opt), equations(sys, pv, opt),
                                        sys.ode_initial_state(pv, hand), &watch);
   w.steps = c.steps;

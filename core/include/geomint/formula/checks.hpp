@@ -22,6 +22,10 @@ void validate_model(const FormulaModel& model, const std::vector<double>& pv);
 // at sample points: an empty string when they agree, else one line saying where they do not.
 std::string herglotz_mismatch(const FormulaModel& model, const std::vector<double>& pv);
 
+// The exact solution ([exact]) against the initial data and the equations at sample points over [t0, t0 + T]: an
+// empty string when it solves them (to 1e-8 of its size), else one line naming the formula and the residual.
+std::string exact_mismatch(const FormulaModel& model, const std::vector<double>& pv);
+
 // The continuous equations at a point, from the model's formulas (the same equations as generic::acceleration
 // and generic::herglotz_acceleration, at run-time dimensions): the acceleration and the multipliers.
 struct ContinuousAcceleration {

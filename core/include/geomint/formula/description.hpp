@@ -4,7 +4,8 @@
 //
 // The system file format is documented, with examples, in docs/systems/README.md: sections [system] (name,
 // description, coordinates, time_transform), [parameters] (name = default  # doc), [definitions], [dynamics] (L, herglotz, F1..Fn,
-// E), [constraints] (phi1.. rows linear in the velocities, or g1.. holonomic rows), [initial] (q1..qn, v1..vn);
+// E), [constraints] (phi1.. rows linear in the velocities, or g1.. holonomic rows), [initial] (q1..qn, v1..vn, t0, z0),
+// [exact] (q1..qn, v1..vn: an exact solution);
 // one `key = formula` per line, '#' comments.
 #include <cstdint>
 #include <filesystem>
@@ -58,6 +59,10 @@ struct SystemDescription {
   ConstraintKind constraint_kind = ConstraintKind::velocity;
   std::vector<FormulaText> constraints;  // Phi_i (velocity) or g_i (holonomic)
   std::vector<FormulaText> initial_q, initial_v;
+  FormulaText initial_t, initial_z;  // t0 and z0 ([initial] t0 = ..., z0 = ...): 0 where not given
+  // An exact solution ([exact]): q1..qn as formulas of t and the parameters, and optionally v1..vn (else the
+  // derivatives of the q's). Checked against the equations at sample points when the system is validated.
+  std::vector<FormulaText> exact_q, exact_v;
   // A time transformation dt = g dsigma (docs/time-transformation.md): the monitor g, a formula in t, q1..qn,
   // v1..vn and the parameters, or empty for none. Given, the model is the extended system in the fictitious time
   // sigma with n + 1 coordinates (q, t), built from the formulas above.

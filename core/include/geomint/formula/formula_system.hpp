@@ -164,6 +164,26 @@ class FormulaSystemT {
   Vec<S, N> initial_velocity() const {
     return initial<S>().template tail<N>();
   }
+  // t0 and z0 ([initial] t0 = ..., z0 = ...; 0 where not given): every run starts at t0 with z(t0) = z0.
+  template <class S>
+  S initial_time() const {
+    return start<S>()(0);
+  }
+  template <class S>
+  S initial_action() const {
+    return start<S>()(1);
+  }
+  // The exact solution of [exact] (q as formulas in t, q' given or derived from them), at the absolute time t.
+  bool has_exact_solution() const { return model_->has_exact(); }
+  template <class S>
+  Phase<S, N> exact(const S& t) const {
+    if (!model_->has_exact())
+      throw InputError("system '" + model_->name + "' has no exact solution ([exact] q1 = ... in its file)");
+    const Vec<S, N> none = Vec<S, N>::Zero();
+    Vec<S, 3 * N> x;  // q, q', q'' (the second derivative for the check of the solution against the equations)
+    run(model_->exact, t, none.data(), none.data(), nullptr, x.data());
+    return Phase<S, N>{x.template head<N>(), x.template segment<N>(N)};
+  }
 
  private:
   void check_shape() const {
@@ -221,6 +241,20 @@ class FormulaSystemT {
     for (int i = 0; i < k; ++i) in[static_cast<std::size_t>(i)] = &values[static_cast<std::size_t>(i)];
     Vec<S, 2 * N> x;
     model_->initial.evaluate(in.data(), pv_.data(), x.data());
+    return x;
+  }
+
+  // (t0, z0) in S.
+  template <class S>
+  Vec<S, 2> start() const {
+    const int k = model_->derived_offset();
+    std::vector<S> values;
+    values.reserve(static_cast<std::size_t>(k));
+    for (int i = 0; i < k; ++i) values.push_back(S(pv_[static_cast<std::size_t>(i)]));
+    std::vector<const S*> in(static_cast<std::size_t>(k));
+    for (int i = 0; i < k; ++i) in[static_cast<std::size_t>(i)] = &values[static_cast<std::size_t>(i)];
+    Vec<S, 2> x;
+    model_->start.evaluate(in.data(), pv_.data(), x.data());
     return x;
   }
 

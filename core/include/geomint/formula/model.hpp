@@ -75,13 +75,17 @@ class FormulaModel {
   Tape constraint_matrix;             // m x n outputs, column-major (Eigen's layout): A(t, q)
   Tape constraint_offset;             // m outputs: b(t, q)
   Tape holonomic_g;                   // m outputs: g(t, q) (holonomic systems)
-  Tape initial;                       // constant tape: q(0) (n outputs), then q'(0) (n outputs)
+  Tape initial;                       // constant tape: q(t0) (n outputs), then q'(t0) (n outputs)
+  Tape start;                         // constant tape: t0, z0 (two outputs; 0 where not given)
+  Tape exact;                         // state tape in t only: q, q', q'' of the exact solution (3n outputs), or empty
   Tape definitions;                   // constant tape: the definitions of parameters only, for validate's messages
   std::vector<NamedConstant> definition_names;
 
   // Places for messages.
   Where lagrangian_at, herglotz_at;
   std::vector<Where> constraint_at, initial_at;  // initial_at: q1..qn then v1..vn
+  Where start_at;                   // [initial] t0 (else the system)
+  std::vector<Where> exact_at;      // [exact] q1..qn, then v1..vn (each q's place where its v is derived)
 
   // A time transformation dt = g dsigma (docs/time-transformation.md): the model is the extended system in sigma,
   // n = physical_n + 1 coordinates (q, t), built from the physical formulas; `physical` is the physical model
@@ -96,6 +100,7 @@ class FormulaModel {
   bool has_herglotz() const { return !herglotz.empty(); }
   bool has_force() const { return !force.empty(); }
   bool has_energy() const { return !energy.empty(); }
+  bool has_exact() const { return !exact.empty(); }
   int parameter_offset() const { return static_cast<int>(numbers.size()); }
   int derived_offset() const { return parameter_offset() + static_cast<int>(parameters.size()); }
   int table_size() const { return derived_offset() + static_cast<int>(prelude.size()); }

@@ -47,8 +47,8 @@ class Composition {
   using VecM = typename Stage::VecM;
   using VecK = typename Stage::VecK;
 
-  Composition(const Sys& sys, const CompositionFamily& family, T h, T t0 = T(0))
-      : family_(family.name), h_(h), t0_(t0) {
+  Composition(const Sys& sys, const CompositionFamily& family, T h) : Composition(sys, family, h, initial_time<T>(sys)) {}
+  Composition(const Sys& sys, const CompositionFamily& family, T h, T t0) : family_(family.name), h_(h), t0_(t0) {
     require(!family.weights.empty(), "composition family '" + family.name + "' has no weights");
     long double c = 0;  // c_i = w_1 + ... + w_{i-1}, summed in long double
     const auto H = static_cast<long double>(h);
@@ -65,7 +65,8 @@ class Composition {
 
   // As Stepper::start: v0 projected onto the constraints, p0 the continuous momentum. The first stage of the
   // first step then uses that stepper's own start (Taylor from v0 and the initial acceleration).
-  void start(const VecN& q0, const VecN& v0, T z0 = T(0)) {
+  void start(const VecN& q0, const VecN& v0) { start(q0, v0, initial_action<T>(system())); }
+  void start(const VecN& q0, const VecN& v0, T z0) {
     stages_.front().start(q0, v0, z0);
     s_ = stages_.front().state();
     from_start_ = true;

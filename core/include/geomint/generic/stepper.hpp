@@ -63,12 +63,17 @@ class Stepper {
     VecM lambda = VecM::Zero();  // impulse of the step that arrived at q_j (0 at j = 0)
   };
 
-  Stepper(const Sys& sys, T h, T t0 = T(0)) : sys_(sys), h_(h), t0_(t0), affine_rows_(affine_rows_of(sys)) {}
+  // Without t0: the system's start (generic::initial_time), so that every run of a system that starts later
+  // (a formula system's t0) steps on its own clock.
+  Stepper(const Sys& sys, T h) : Stepper(sys, h, initial_time<T>(sys)) {}
+  Stepper(const Sys& sys, T h, T t0) : sys_(sys), h_(h), t0_(t0), affine_rows_(affine_rows_of(sys)) {}
 
   // The start from (q0, v0) at t0: v0 is projected onto the constraints (kinetic metric), and p0 is the
   // continuous momentum at that velocity — the first step is then the scheme's own discrete Legendre
   // transform (LA: p0 = dL/dq'; contact: p0 = dL/dq'(t0, q0, v0, z0)).
-  void start(const VecN& q0, const VecN& v0, T z0 = T(0)) {
+  // z0: the system's initial action (generic::initial_action) unless given.
+  void start(const VecN& q0, const VecN& v0) { start(q0, v0, initial_action<T>(sys_)); }
+  void start(const VecN& q0, const VecN& v0, T z0) {
     const VecN v = consistent_velocity(sys_, t0_, q0, v0);
     s_ = State{};
     s_.t = t0_;

@@ -19,7 +19,11 @@
 //   template <class S> Vec<S, m> holonomic(const S& t, q) const;            g with Phi = dg/dt on g = 0: the
 //                                      schemes then impose g(t_{j+1}, q_{j+1}) = 0 instead of Phi o Psi
 //   template <class S> S energy(const S& t, q, v) const;                    default: q'.L_q' - L
-//   template <class S> Phase<S, n> exact(const S& t) const;                 a closed-form solution
+//   template <class S> Phase<S, n> exact(const S& t) const;                 a closed-form solution (in absolute t)
+//   bool has_exact_solution() const;         whether exact() is there for this instance (a system defined by
+//                                            formulas has one only when its file gives one)
+//   template <class S> S initial_time() const;   and  initial_action() const;   t0 and z0 of a run (default 0):
+//                                            every run starts at t0 with z(t0) = z0, t_j = t0 + j h
 //   void rhs(double t, const Vec<double, n>& q, const Vec<double, n>& v, Vec<double, n>& a) const;
 //                                      a hand-written acceleration (the generic one is derived from L)
 //   static constexpr bool linear = true;     L quadratic in (q, q') and F, Phi affine in them, with the
@@ -86,6 +90,9 @@ GEOMINT_DETECT(has_linear_flag, Sys::linear)
 GEOMINT_DETECT(has_autonomous_flag, Sys::autonomous)
 GEOMINT_DETECT(has_linear_dynamics_flag, Sys::linear_dynamics)
 GEOMINT_DETECT(has_linear_dynamics_query, std::declval<const Sys&>().linear_dynamics_found())
+GEOMINT_DETECT(has_exact_query, std::declval<const Sys&>().has_exact_solution())
+GEOMINT_DETECT(has_initial_time, std::declval<const Sys&>().template initial_time<double>())
+GEOMINT_DETECT(has_initial_action, std::declval<const Sys&>().template initial_action<double>())
 #undef GEOMINT_DETECT
 
 template <class Sys>
@@ -113,6 +120,37 @@ bool linear_dynamics_of(const Sys& sys) {
     return sys.linear_dynamics_found();
   else
     return false;
+}
+
+// A closed-form solution, where the system has one (at compile time, and for this instance at run time).
+template <class Sys>
+bool exact_available(const Sys& sys) {
+  if constexpr (has_exact_query_v<Sys>)
+    return sys.has_exact_solution();
+  else {
+    (void)sys;
+    return has_exact_v<Sys>;
+  }
+}
+
+// The start of every run, t0 and z(t0) = z0: the system's, or 0 (every header system starts at t = 0, z = 0).
+template <class S = double, class Sys>
+S initial_time(const Sys& sys) {
+  if constexpr (has_initial_time_v<Sys>)
+    return sys.template initial_time<S>();
+  else {
+    (void)sys;
+    return S(0);
+  }
+}
+template <class S = double, class Sys>
+S initial_action(const Sys& sys) {
+  if constexpr (has_initial_action_v<Sys>)
+    return sys.template initial_action<S>();
+  else {
+    (void)sys;
+    return S(0);
+  }
 }
 
 // A system that declares `static constexpr bool autonomous = true` has no explicit time in L, F, Phi (and no

@@ -439,7 +439,9 @@ template <class Sys>
 Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, double tol) {
   constexpr int n = Sys::dof;
   require(N >= 1, "reference needs at least one step");
-  if (kind == ReferenceKind::automatic) kind = has_exact_v<Sys> ? ReferenceKind::exact : ReferenceKind::odeint;
+  const bool exact = exact_available(sys);
+  if (kind == ReferenceKind::automatic) kind = exact ? ReferenceKind::exact : ReferenceKind::odeint;
+  const double t0 = initial_time(sys);  // t_j = t0 + j h
   check_reference_memory(n, kind == ReferenceKind::exact, N);
   Reference ref;
   ref.h = h;
@@ -449,13 +451,15 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
   ref.v.resize(ref.q.size());
   if (kind == ReferenceKind::exact) {
     if constexpr (has_exact_v<Sys>) {
+      if (!exact)
+        throw InputError(std::string("system '") + Sys::name + "' has no closed-form solution (use --reference odeint)");
       ref.kind = "closed form";
       for (long j = 0; j <= N; ++j) {
-        const auto x = sys.template exact<double>(static_cast<double>(j) * h);
+        const auto x = sys.template exact<double>(t0 + static_cast<double>(j) * h);
         // where a closed form overflows (extreme parameters), not as a nan in some table downstream
         if (!x.q.allFinite() || !x.v.allFinite())
           throw NumericalFailure(j, "reference", std::string("the closed-form solution of ") + Sys::name +
-                                                     " is not finite at t = " + show(static_cast<double>(j) * h));
+                                                     " is not finite at t = " + show(t0 + static_cast<double>(j) * h));
         for (int i = 0; i < n; ++i) {
           ref.q[static_cast<std::size_t>(j * n + i)] = x.q(i);
           ref.v[static_cast<std::size_t>(j * n + i)] = x.v(i);
@@ -470,12 +474,12 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
     throw InputError(std::string("system '") + Sys::name + "' has no hand-written rhs (use --reference odeint)");
   require(std::isfinite(tol) && tol >= 1e-15 && tol < 1, "tol must be in [1e-15, 1), got " + show(tol));
   std::vector<double> times(static_cast<std::size_t>(N + 1));
-  for (long j = 0; j <= N; ++j) times[static_cast<std::size_t>(j)] = static_cast<double>(j) * h;
+  for (long j = 0; j <= N; ++j) times[static_cast<std::size_t>(j)] = t0 + static_cast<double>(j) * h;
   using State = std::array<double, 2 * n>;
   const Vec<double, n> q0 = sys.template initial_position<double>();
   const bool hand = kind == ReferenceKind::odeint_rhs;
-  const Vec<double, n> v0 = hand ? hand_written_velocity(sys, 0.0, q0, sys.template initial_velocity<double>())
-                                 : consistent_velocity(sys, 0.0, q0, sys.template initial_velocity<double>());
+  const Vec<double, n> v0 = hand ? hand_written_velocity(sys, t0, q0, sys.template initial_velocity<double>())
+                                 : consistent_velocity(sys, t0, q0, sys.template initial_velocity<double>());
   State x0;
   for (int i = 0; i < n; ++i) {
     x0[static_cast<std::size_t>(i)] = q0(i);
@@ -680,6 +684,7 @@ SystemInfo make_system_info() {
   if constexpr (has_measures<Sys>::value) info.measures = Sys::Measures::info();
   info.validate = [](const ParamValues& pv) { make_system<Sys>(pv).validate(); };
   info.horizon = [](const ParamValues& pv) { return horizon_of(make_system<Sys>(pv)); };
+  info.initial_time = [](const ParamValues& pv) { return initial_time(make_system<Sys>(pv)); };
   info.run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, long every) {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
@@ -780,6 +785,7 @@ SystemInfo make_system_info() {
     if constexpr (has_exact_v<Sys>) {
       const Sys sys = make_system<Sys>(pv);
       sys.validate();
+      if (!exact_available(sys)) throw InputError(std::string("system '") + Sys::name + "' has no closed-form solution");
       std::vector<double> q;
       q.reserve(times.size() * Sys::dof);
       for (double t : times) {
@@ -823,7 +829,8 @@ SystemInfo make_system_info() {
     sys.validate();
     const Vec<double, Sys::dof> q0 = sys.template initial_position<double>();
     const Vec<double, Sys::dof> v = sys.template initial_velocity<double>();
-    const Vec<double, Sys::dof> v0 = hand_written ? hand_written_velocity(sys, 0.0, q0, v) : consistent_velocity(sys, 0.0, q0, v);
+    const double t0 = initial_time(sys);
+    const Vec<double, Sys::dof> v0 = hand_written ? hand_written_velocity(sys, t0, q0, v) : consistent_velocity(sys, t0, q0, v);
     std::vector<double> x(q0.data(), q0.data() + Sys::dof);
     x.insert(x.end(), v0.data(), v0.data() + Sys::dof);
     return x;
