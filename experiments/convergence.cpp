@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
         "schemes", po::value(&names)->multitoken(), "schemes (default: every scheme of the system)")(
         "path", po::value(&path_name)->default_value(path_name), "fast (closed forms where they exist) or generic")(
         "reference", po::value(&ref_name)->default_value(ref_name),
-        "auto (closed form if any, else odeint), exact, odeint (equations from L by AD), odeint-rhs (hand-written)")(
+        "auto (the exact solution if any: a closed form, or a system file's [exact] section; else odeint), exact, odeint (equations from L by AD), odeint-rhs (hand-written)")(
         "tol", po::value(&tol)->default_value(tol, "1e-13"), "Odeint tolerance of the reference")(
         "norm", po::value(&norm_name)->default_value(norm_name),
         "max (the largest component of q - q_ref) or 2 (its Euclidean length)");

@@ -324,7 +324,7 @@ TEST_CASE("bad parameter values are refused by validate with the place", "[formu
     const auto dep = model_of(system_text(3, "v1*v1/2 + v2*v2/2 + v3*v3/2", "[constraints]\nphi1 = v1 + v2\nphi2 = 2*v1 + 2*v2\n"));
     check_error([&] { FormulaSystem<3, 2>(dep).validate(); }, "the constraint rows are linearly dependent at the initial position");
     const auto off = model_of(system_text(2, "v1*v1/2 + v2*v2/2", "[constraints]\ng1 = q1*q1 + q2*q2 - 1\n"));
-    check_error([&] { FormulaSystem<2, 1, true>(off).validate(); }, "test.geomint:11: the initial position q0 = (0.1, 0.1) is off the holonomic constraint: g1(0, q0) = -0.98");
+    check_error([&] { FormulaSystem<2, 1, true>(off).validate(); }, "test.geomint:11: the initial position q0 = (0.1, 0.1) is off the holonomic constraint: g1(t0, q0) = -0.98");
     const auto nan = model_of(system_text(1, "w*v1*v1/2", "", "w = log(a - 1)"));
     check_error([&] { FormulaSystem<1, 0>(nan).validate(); }, "test.geomint:9: definition w is not finite at these parameters (");
     FormulaSystem<1, 0> neg(model_of(system_text(1, "v1*v1/2")));

@@ -185,9 +185,17 @@ std::vector<std::pair<std::string, std::string>> SystemOptions::header() const {
       if (!l.time_transform.empty())
         out.emplace_back("time_transform", "dt = g dsigma, g = " + l.time_transform + " (the time t is the last coordinate)");
     }
-  // the start of a system that does not start at t = 0 (a header system always does)
-  if (system_->initial_time)
-    if (const double t0 = system_->initial_time({}); t0 != 0) out.emplace_back("t0", format_number(t0) + " (the runs' t_j = t0 + j h)");
+  // the start of a system that does not start at t = 0 (a header system always does); t0 may be a formula of the
+  // parameters, so it is taken at the values the runs use: one value per combination where a sweep changes it
+  if (system_->initial_time) {
+    std::vector<double> t0s;
+    for (const auto& c : combinations()) t0s.push_back(system_->initial_time(c));
+    const bool same = std::all_of(t0s.begin(), t0s.end(), [&](double t) { return t == t0s.front(); });
+    if (!same)
+      out.emplace_back("t0", format_list(t0s) + " (one per combination of the parameters, in the runs' order; t_j = t0 + j h)");
+    else if (!t0s.empty() && t0s.front() != 0)
+      out.emplace_back("t0", format_number(t0s.front()) + " (the runs' t_j = t0 + j h)");
+  }
   for (std::size_t i = 0; i < given_.size(); ++i)
     out.emplace_back(system_->params[i].name,
                      given_[i].empty() ? format_number(system_->params[i].value) : format_list(given_[i]));
