@@ -198,6 +198,40 @@ struct Printer {
     return s;
   }
 
+  // Whether a sum's first term in the printed order is negative. A product's sign is a choice between c*s and
+  // (-c)*(-s), which GiNaC makes by its own term order (its symbols' serial numbers): the printer makes it by the
+  // printed order instead, so that every sum factor starts with a positive term.
+  static bool leads_negative(const ex& sum) {
+    std::size_t first = 0;
+    std::string best;
+    for (std::size_t i = 0; i < sum.nops(); ++i) {
+      const std::string k = key(negative(sum.op(i)) ? ex(-sum.op(i)) : sum.op(i));
+      if (i == 0 || k < best) {
+        best = k;
+        first = i;
+      }
+    }
+    return sum.nops() > 0 && negative(sum.op(first));
+  }
+
+  // f with its sum (or the sum it is a power of) turned to start with a positive term; c takes the sign.
+  static ex with_positive_lead(const ex& f, GiNaC::numeric& c) {
+    if (GiNaC::is_a<GiNaC::add>(f) && leads_negative(f)) {
+      const ex g = -f;
+      if (!GiNaC::is_a<GiNaC::add>(g)) return f;
+      c = -c;
+      return g;
+    }
+    if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::add>(f.op(0)) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
+        ex_to<GiNaC::numeric>(f.op(1)).is_integer() && leads_negative(f.op(0))) {
+      const ex b = -f.op(0);
+      if (!GiNaC::is_a<GiNaC::add>(b)) return f;
+      if (ex_to<GiNaC::numeric>(f.op(1)).is_odd()) c = -c;
+      return GiNaC::pow(b, f.op(1));
+    }
+    return f;
+  }
+
   std::string product(const ex& e, int level) const {
     GiNaC::numeric c = 1;
     std::vector<ex> num, den;
@@ -207,9 +241,9 @@ struct Printer {
         c *= ex_to<GiNaC::numeric>(f);
       } else if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
                  ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
-        den.push_back(GiNaC::pow(f.op(0), -f.op(1)));
+        den.push_back(with_positive_lead(GiNaC::pow(f.op(0), -f.op(1)), c));
       } else {
-        num.push_back(f);
+        num.push_back(with_positive_lead(f, c));
       }
     }
     std::string s = c.is_negative() ? "-" : "";

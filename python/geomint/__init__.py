@@ -188,7 +188,7 @@ def _formulas(xs, base, seen):
 
 def define_system(name, coordinates, L, herglotz=None, force=None, energy=None, constraints=None, holonomic=False,
                   parameters=None, definitions=None, initial_q=None, initial_v=None, description="",
-                  strict_herglotz=False, time_transform=None):
+                  strict_herglotz=False, time_transform=None, t0=None, z0=None, exact_q=None, exact_v=None):
     """A system from its formulas: each a string in the formula language (docs/systems/README.md), a number, or a
     sympy expression in the same names (symbols q1.., v1.., t, z, the parameters'), printed to that language.
     The rest as _geomint.define_system says (its docstring, below)."""
@@ -206,7 +206,9 @@ def define_system(name, coordinates, L, herglotz=None, force=None, energy=None, 
         constraints=_formulas(constraints, "g" if holonomic else "phi", seen), holonomic=holonomic,
         parameters=parameters, definitions=definitions, initial_q=_formulas(initial_q, "q", seen),
         initial_v=_formulas(initial_v, "v", seen), description=description, strict_herglotz=strict_herglotz,
-        time_transform=_formula(time_transform, "time_transform", seen))
+        time_transform=_formula(time_transform, "time_transform", seen), t0=_formula(t0, "t0", seen),
+        z0=_formula(z0, "z0", seen), exact_q=_formulas(exact_q, "exact q", seen),
+        exact_v=_formulas(exact_v, "exact v", seen))
     if seen:
         _user_symbols[s] = {str(x): x for x in seen}
     return s
