@@ -105,10 +105,16 @@ class ModelCompiler {
     M.holonomic = d_.constraint_kind == ConstraintKind::holonomic && M.m > 0;
     printable_description();
     check_name();
-    if (!supported_shape(N, M.m))
-      whole(std::to_string(M.m) + " constraint row" + (M.m == 1 ? "" : "s") + " with " + std::to_string(N) +
+    if (!supported_shape(N, M.m)) {
+      // named at the first row the shape cannot hold (rows beyond the coordinates, or beyond the compiled shapes)
+      const std::string shape = std::to_string(M.m) + " constraint row" + (M.m == 1 ? "" : "s") + " with " + std::to_string(N) +
             " coordinate" + (N == 1 ? "" : "s") + (tt_ ? " (the time transformation adds t)" : "") + ": formula systems have at most " + std::to_string(max_constraints) +
-            " rows, and fewer rows than coordinates");
+            " rows, and fewer rows than coordinates";
+      const int first = std::max(0, std::min(max_constraints, N - 1));
+      if (first >= M.m) whole(shape);
+      const std::string row = std::string(M.holonomic ? "g" : "phi") + std::to_string(first + 1);
+      throw InputError(placed(d_.constraints[static_cast<std::size_t>(first)].where, row) + ": " + shape);
+    }
 
     parameters();
     definitions();
