@@ -282,7 +282,7 @@ TEST_CASE("bad system files are refused with one line naming the place", "[formu
       {sys + L + "[constraints]\nphi1 = q1 - 1\n" + init, "phi1 has no velocity in it: a constraint on the positions is written as a holonomic row g1"},
       {sys + L + "[constraints]\ng1 = q1*v1\n" + init, "test.geomint:10: g1 depends on the velocities"},
       {sys + L + "[constraints]\nphi1 = v1\ng2 = q1\n" + init, "constraints mix phi (linear in the velocities) and g (holonomic) rows"},
-      {sys + L + "[constraints]\nphi1 = v1\nphi2 = v2\n" + init, "2 constraint rows with 2 coordinates: formula systems have at most 2 rows, and fewer rows than coordinates"},
+      {sys + L + "[constraints]\nphi1 = v1\nphi2 = v2\n" + init, "test.geomint:11: phi2: 2 constraint rows with 2 coordinates: formula systems have at most 2 rows, and fewer rows than coordinates"},
       {sys + L + "[constraints]\nphi1 = atan2(q1, q2)*v1 + v2\n" + init, "phi1 takes atan2 of q1, q2: atan2 is available for parameters and initial data only"},
       {sys + L + "[initial]\nq1 = t\nq2 = 0\nv1 = 1\nv2 = 0\n", "test.geomint:10: initial q1 is not constant: initial data are numbers, parameters and definitions of parameters (it uses t)"},
       {sys + L + "[initial]\nq1 = 0\nv1 = 1\nv2 = 0\n", "test.geomint: [initial] has no q2 (give q1..q2 and v1..v2)"},
