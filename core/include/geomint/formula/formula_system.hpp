@@ -233,28 +233,26 @@ class FormulaSystemT {
   // (q(0), q'(0)) in S, from the numbers and parameters in S.
   template <class S>
   Vec<S, 2 * N> initial() const {
-    const int k = model_->derived_offset();
-    std::vector<S> values;
-    values.reserve(static_cast<std::size_t>(k));
-    for (int i = 0; i < k; ++i) values.push_back(S(pv_[static_cast<std::size_t>(i)]));
-    std::vector<const S*> in(static_cast<std::size_t>(k));
-    for (int i = 0; i < k; ++i) in[static_cast<std::size_t>(i)] = &values[static_cast<std::size_t>(i)];
-    Vec<S, 2 * N> x;
-    model_->initial.evaluate(in.data(), pv_.data(), x.data());
-    return x;
+    return constants<S, 2 * N>(model_->initial);
   }
 
   // (t0, z0) in S.
   template <class S>
   Vec<S, 2> start() const {
+    return constants<S, 2>(model_->start);
+  }
+
+  // The K outputs of a tape that reads only the numbers and parameters (no point of the motion), in S.
+  template <class S, int K>
+  Vec<S, K> constants(const Tape& tape) const {
     const int k = model_->derived_offset();
     std::vector<S> values;
     values.reserve(static_cast<std::size_t>(k));
     for (int i = 0; i < k; ++i) values.push_back(S(pv_[static_cast<std::size_t>(i)]));
     std::vector<const S*> in(static_cast<std::size_t>(k));
     for (int i = 0; i < k; ++i) in[static_cast<std::size_t>(i)] = &values[static_cast<std::size_t>(i)];
-    Vec<S, 2> x;
-    model_->start.evaluate(in.data(), pv_.data(), x.data());
+    Vec<S, K> x;
+    tape.evaluate(in.data(), pv_.data(), x.data());
     return x;
   }
 
