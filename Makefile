@@ -116,7 +116,10 @@ test: build
 # against its stages alone; systems written as formulas against the same systems as headers (Google Benchmark);
 # a time-transformed step against the untransformed one;
 # a million steps called from Python against the same registry call timed in C++ (timings: never part of make test).
+# The benchmarks are built here, not by `make test`, and their refusals of bad input are checked before any timing.
 bench: build
+	@cmake --build $(BUILD) --target benchmarks -j$(JOBS)
+	@$(BUILD)/tests/geomint_tests "[bench]"
 	@mkdir -p $(OUT)
 	@$(BUILD)/experiments/bench_steps --out $(OUT)
 	@echo
