@@ -12,7 +12,7 @@
 #include <tuple>
 #include <vector>
 
-#include "geomint/generic/fast_path.hpp"
+#include "geomint/generic/system_schemes.hpp"
 #include "geomint/generic/stepper.hpp"
 
 namespace geomint::testing {

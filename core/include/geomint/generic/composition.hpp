@@ -14,7 +14,7 @@
 // step, so a step followed by the step of size -h returns q exactly but p only up to a multiple of A(t_j, q_j)^T:
 // the map on (q, p) is not symmetric. It is symmetric on (q, p mod A(q)^T), which is all the next step sees (a
 // normal part of p_j is absorbed into its lambda), so compositions keep their order in q (measured in
-// tests/composition_orders.test.cpp; the symmetry itself in tests/composition.test.cpp).
+// tests/schemes/composition_orders.test.cpp; the symmetry itself in tests/schemes/composition.test.cpp).
 //
 // Cost. Each stage is its own Stepper with step w_i h, so it keeps its own Jacobian (simplified Newton) from one
 // step to the next, and its own predictor: the stage's increment (q' - q, [z' - z], lambda), a smooth function of

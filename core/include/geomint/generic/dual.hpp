@@ -8,7 +8,7 @@
 // vector's scalar and its expression templates need per-type workarounds when nested over non-double
 // scalars; this plain value-plus-array type composes with any T that has + - * / and the <cmath>
 // functions, compiles to straight-line code for the small fixed N of a step (no allocation), and is
-// checked against AutoDiffScalar in tests/dual.test.cpp.
+// checked against AutoDiffScalar in tests/schemes/dual.test.cpp.
 #include <array>
 #include <cmath>
 #include <type_traits>

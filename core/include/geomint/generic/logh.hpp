@@ -40,7 +40,7 @@
 // sum to sum(s/U), which differs from the t the drifts advance by O(h^2): the law then holds to O(h^2) only
 // (FrictionOver::kick, kept for the test that shows it).
 //
-// A system that runs it declares, beside its L and force (tests/logh.test.cpp holds these to them by AD):
+// A system that runs it declares, beside its L and force (tests/schemes/logh.test.cpp holds these to them by AD):
 //   template <class S> S kinetic(const Vec<S, n>& p) const;             T(p)
 //   template <class S> Vec<S, n> kinetic_gradient(const Vec<S, n>& p) const;   dT/dp, the velocity
 //   template <class S> S attraction(const Vec<S, n>& q) const;          U(q) = -V(q) > 0, autonomous

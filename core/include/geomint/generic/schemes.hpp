@@ -132,8 +132,9 @@ struct Trapezoid {
 namespace contact_quadrature {
 
 // The paper's (10), (17): the potential part by the trapezoid rule in (t, q), z_j held:
-// 𝓛 = h/2 [L(t_j, q_j, v, z_j) + L(t_{j+1}, q_{j+1}, v, z_j)]. Explicit in z (D4 𝓛 = 0). First order.
-struct Left {
+// 𝓛 = h/2 [L(t_j, q_j, v, z_j) + L(t_{j+1}, q_{j+1}, v, z_j)]. Explicit in z (D4 𝓛 = 0). First order: the rule
+// is a trapezoid in q, but z is held at its left end (hence the scheme's name `contact`, LaLeft's partner).
+struct TrapezoidHeldZ {
   static constexpr const char* name = "left";
   static constexpr const char* scheme = "contact";
   static constexpr int order = 1;
@@ -534,7 +535,7 @@ struct Herglotz {
 using LaLeft = LagrangeDAlembert<la_quadrature::Left>;
 using LaMidpoint = LagrangeDAlembert<la_quadrature::Midpoint>;
 using LaTrapezoid = LagrangeDAlembert<la_quadrature::Trapezoid>;
-using ContactLeft = Herglotz<contact_quadrature::Left>;
+using ContactLeft = Herglotz<contact_quadrature::TrapezoidHeldZ>;
 using ContactTrapezoid = Herglotz<contact_quadrature::Trapezoid>;
 
 // Every generic scheme, for code that iterates over them (the registry, benchmarks).

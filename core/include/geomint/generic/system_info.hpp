@@ -13,7 +13,7 @@
 #include "geomint/error.hpp"
 #include "geomint/generic/composition.hpp"
 #include "geomint/generic/composition_families.hpp"
-#include "geomint/generic/fast_path.hpp"
+#include "geomint/generic/system_schemes.hpp"
 #include "geomint/generic/stepper.hpp"
 #include "geomint/interrupt.hpp"
 #include "geomint/io.hpp"

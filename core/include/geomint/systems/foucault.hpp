@@ -33,7 +33,7 @@
 
 #include "geomint/constants.hpp"
 #include "geomint/error.hpp"
-#include "geomint/generic/fast_path.hpp"
+#include "geomint/generic/system_schemes.hpp"
 #include "geomint/generic/schemes.hpp"
 #include "geomint/linear_oscillator.hpp"
 #include "geomint/observers.hpp"
@@ -656,7 +656,7 @@ struct FoucaultPendulum::La {
   // q_{j+1} by ~ eps |q_{j-1}|, the size of the rounding of the inputs themselves. Writing it as
   // q_{j-1} x (q_j - q_{j-1}) instead looks better (no cancellation far from the origin) but near the
   // origin carries eps |q_{j-1}|^2 / r_j into q_{j+1}: 10^3-10^5 times worse when a step lands within
-  // r_j << h |q'| of the origin (found by the long double comparison in tests/foucault.test.cpp).
+  // r_j << h |q'| of the origin (found by the long double comparison in tests/systems/foucault.test.cpp).
   // `j` only labels a NumericalFailure.
   template <class T>
   static void step(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h, Vec2<T>& qn, T& lambda1,
@@ -877,7 +877,7 @@ struct FoucaultRotation : FoucaultPendulum, RotationConstraint<FoucaultRotation>
     T lambda1;
     // The line of q_k is at phi_k = phi0 - s t_k. Its cos and sin are evaluated afresh every K steps (the
     // anchor) and in between by one rotation from a table of the rotations by -s h b, b < K: the same
-    // direction to a few ulps (tests/foucault_anomaly.test.cpp checks the angle of every q_k against
+    // direction to a few ulps (tests/studies/foucault_anomaly.test.cpp checks the angle of every q_k against
     // phi0 - s t_k), without a sincos per step (which would double the cost of a step).
     const RotationTable<T> rot(p.s, h);
     FoucaultLine<T> anchor = foucault_line<T>(phi0 - p.s * (T(j0) * h)), L = anchor, Ln;

@@ -84,7 +84,7 @@ struct KeplerT {
   }
 
   // The separable form the logH scheme runs on (generic/logh.hpp): H = T(p) - U(q) with p = q' (the momentum of L),
-  // T = |p|^2/2, U = 1/|q|, and the force -f(t) q' = -f(t) p. tests/logh.test.cpp holds each to L and the force.
+  // T = |p|^2/2, U = 1/|q|, and the force -f(t) q' = -f(t) p. tests/schemes/logh.test.cpp holds each to L and the force.
   template <class S>
   S kinetic(const Vec<S, 2>& p) const {
     return p.squaredNorm() / 2;

@@ -18,7 +18,7 @@
 #include <Eigen/Core>
 
 #include "geomint/error.hpp"
-#include "geomint/generic/fast_path.hpp"
+#include "geomint/generic/system_schemes.hpp"
 #include "geomint/generic/schemes.hpp"
 
 namespace geomint {

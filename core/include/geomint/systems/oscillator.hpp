@@ -4,7 +4,7 @@
 // regime (linear_oscillator.hpp).
 //
 // Its closed forms are the fast paths of the generic schemes (each states the scheme it solves and is held to it
-// step by step in tests/system_oscillator.test.cpp): the paper's integrators (7) (derived: `la`) and (10)
+// step by step in tests/systems/system_oscillator.test.cpp): the paper's integrators (7) (derived: `la`) and (10)
 // (`contact`), and the second-order comparators `la-midpoint`, the implicit leapfrog (`la-trapezoid`, the paper's
 // "leapfrog") and the symmetric contact integrator (`contact-trapezoid`, "contact-sym"). Beyond the generic schemes
 // the oscillator declares two of its own: eq. (7) exactly as printed (`la-printed`, which does not converge) and a
@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "geomint/error.hpp"
-#include "geomint/generic/fast_path.hpp"
+#include "geomint/generic/system_schemes.hpp"
 #include "geomint/generic/schemes.hpp"
 #include "geomint/linear_oscillator.hpp"
 #include "geomint/registry.hpp"

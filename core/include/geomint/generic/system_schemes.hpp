@@ -1,6 +1,7 @@
 #pragma once
-// Closed-form fast paths and the schemes a system declares beyond the generic ones: how a system names every
-// method that runs on it, for the typed code (the registry's translation units, ensembles, benchmarks, tests).
+// The schemes a system runs — the generic ones it can, its closed-form fast paths and its extra schemes — by name:
+// how the typed code (the registry's translation units, ensembles, benchmarks, tests) finds and visits every method
+// that runs on a system. What a run's observer sees is generic/step_view.hpp.
 //
 // A closed form is a struct, written next to its system (nested in it), with
 //   static constexpr const char* name;   a label for tables and messages ("(15), two-step")
@@ -35,20 +36,9 @@
 
 #include "geomint/error.hpp"
 #include "geomint/generic/schemes.hpp"
+#include "geomint/generic/step_view.hpp"
 
 namespace geomint::generic {
-
-// What an observer of a run sees at step j (generic and fast paths alike): t_j, q_j, the discrete momentum
-// p_j (the scheme's own Legendre transform), z_j (contact), and the impulse lambda of the step into q_j.
-template <class T, int n, int m>
-struct StepView {
-  long j;
-  T t;
-  const Vec<T, n>& q;
-  const Vec<T, n>& p;
-  T z;
-  const Vec<T, m>& lambda;
-};
 
 #define GEOMINT_DETECT_TYPE(trait, member)                                              \
   template <class Sys, class = void>                                                    \
@@ -63,6 +53,7 @@ GEOMINT_DETECT_TYPE(fast_paths_of, fast_paths)
 GEOMINT_DETECT_TYPE(extra_schemes_of, extra_schemes)
 #undef GEOMINT_DETECT_TYPE
 
+// An observer of positions that does nothing: the argument has_run_positions probes run_positions with.
 struct PositionSink {
   template <class V>
   void operator()(long, double, const V&) const {}
