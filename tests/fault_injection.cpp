@@ -1,4 +1,4 @@
-// Fault injection for the probe (tests/probe.test.cpp), kept out of every program: a shared library that the probe
+// Fault injection for the probe (tests/programs/probe.test.cpp), kept out of every program: a shared library that the probe
 // preloads (LD_PRELOAD) into a program it starts. No program contains a test hook (the probe checks that no program
 // binary even names one); this library interposes the C library's rename and link calls instead and, as
 // GEOMINT_TEST_FAULT says (comma-separated actions), acts at a chosen one:

@@ -5,7 +5,7 @@ Usage: /usr/bin/python3 tests/probe_inputs.py [phase ...]     (from the reposito
 Phases: options names special paths formulas signals concurrency mpi   (default: all, in that order)
 Each phase writes $GEOMINT_PROBE_DIR/results_<phase>.tsv (default /tmp/geomint-probe); the phases run are also
 concatenated into results.tsv. Runs one program at a time, each under `timeout -s KILL 30 timeout -s INT 20`: about 50
-minutes on two cores, so it is not part of `make test`; tests/probe.test.cpp holds every class of defect it found.
+minutes on two cores, so it is not part of `make test`; tests/programs/probe.test.cpp holds every class of defect it found.
 Environment: GEOMINT_BIN (default build/experiments), PROBE_PROGS=a,b (only these programs).
 """
 import hashlib, os, re, shlex, shutil, signal, subprocess, sys, time

@@ -42,7 +42,7 @@ const std::vector<CompositionFamily>& composition_families() {
        4, suzuki_fractal()},
       // Yoshida (1990), Table 1, solution A (printed to 15 digits: w1 = -1.17767998417887, w2 = 0.235573213359357,
       // w3 = 0.784513610477560), here to 26 digits as reprinted in Hairer–Lubich–Wanner, Sect. V.3.2 ("p6 s7");
-      // the 15-digit values leave the order-6 conditions unsatisfied at 1e-15 (tests/composition_families.test.cpp
+      // the 15-digit values leave the order-6 conditions unsatisfied at 1e-15 (tests/schemes/composition_families.test.cpp
       // checks these to long double round-off).
       {"yoshida6a",
        "Yoshida's 7-stage solution A (H. Yoshida, Phys. Lett. A 150 (1990) 262-268, Table 1; 26 digits as in "

@@ -263,7 +263,7 @@ def test_an_ensemble_of_a_defined_system_runs_as_each_run_alone():
 
 def test_an_ensemble_records_failed_runs_and_refuses_bad_perturbations():
     # the contact scheme on the oscillator overflows (its action z first) within 500 steps once alpha > 30.3 at
-    # h = 0.1 (tests/generic_ensemble.test.cpp): alpha in [15, 45)
+    # h = 0.1 (tests/studies/generic_ensemble.test.cpp): alpha in [15, 45)
     e = geomint.system("oscillator").ensemble("contact", {"alpha": 15}, runs=40, params={"alpha": 30})
     alpha = e["values"][:, 0]
     failed = np.array([f != "" for f in e["failure"]])

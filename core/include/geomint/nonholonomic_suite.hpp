@@ -13,7 +13,7 @@
 //   nonreversible-oscillator
 //
 // Every formula here is derived and checked symbolically in python/tests/test_nonholonomic_exact.py; the C++ is
-// held to Odeint on the systems' own equations (tests/nonholonomic_suite.test.cpp).
+// held to Odeint on the systems' own equations (tests/studies/nonholonomic_suite.test.cpp).
 // The damped problems' invariants carry their exact decay: E e^{2 alpha t} for a damping proportional to the
 // kinetic metric (no potential), so that each is a constant of the exact motion whatever alpha.
 #include <array>

@@ -78,7 +78,7 @@ struct Run {
   }
 };
 
-// What the tests of a system expect of it (tests/generic_systems.test.cpp), declared with the system where it
+// What the tests of a system expect of it (tests/systems/generic_systems.test.cpp), declared with the system where it
 // differs from the defaults (a system's `static Expectations expectations()`): the parameters and step sizes of
 // the convergence test, and the order a scheme shows there where it is not the scheme's own. The test fits the
 // order on the asymptotic range (asymptotic_order, study.hpp) and holds it to `orders` within order_tolerance; a

@@ -12,7 +12,7 @@
 // reassociated (no -ffast-math), and with floating-point contraction off (-ffp-contract=off for the whole
 // project, so no FMA in the AVX2/AVX-512 copies either). Transcendental functions (sin, cos, atan2, exp) stay
 // out of the vector loops: they are called through libm, one lane at a time, exactly as the scalar path does.
-// tests/simd_ensemble.test.cpp compares every width, the one-at-a-time path and threads, bit for bit.
+// tests/studies/simd_ensemble.test.cpp compares every width, the one-at-a-time path and threads, bit for bit.
 //
 // Why GCC multiversioning and not a SIMD library (xsimd): the kernels then are the scalar formulas, not a
 // second restatement of them in batch types, so there is one formula per scheme and nothing to keep in sync.

@@ -264,7 +264,7 @@ std::vector<AnomalyCase> anomaly_cases(const std::vector<double>& hs, const std:
 // simd: Simd::scalar runs each case through run_anomaly (one trajectory at a time); sse2/avx2/avx512 step up
 // to 128 consecutive cases of one cell (scheme, system, alpha, h) together in structure-of-arrays form,
 // vectorized for that instruction set. Every choice, and every thread count, gives the same bits
-// (tests/simd_ensemble.test.cpp).
+// (tests/studies/simd_ensemble.test.cpp).
 std::vector<AnomalyRun> run_anomaly_ensemble(const systems::FoucaultPendulum& base, const std::vector<AnomalyCase>& cases,
                                              double record_threshold, unsigned threads,
                                              const std::function<void(std::size_t, std::size_t)>& progress = {},

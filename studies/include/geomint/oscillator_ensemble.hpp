@@ -1,7 +1,7 @@
 #pragma once
 // Ensembles: many trajectories of one oscillator scheme stepped together in a structure-of-arrays layout,
 // vectorized with the machine's widest vectors (simd.hpp) and split across threads. Every trajectory gets
-// the bits that Scheme::step gives it alone (tests/simd_ensemble.test.cpp): the kernel calls Scheme::step
+// the bits that Scheme::step gives it alone (tests/studies/simd_ensemble.test.cpp): the kernel calls Scheme::step
 // itself, lane by lane, and GCC vectorizes the loop over lanes for each instruction set.
 #include <algorithm>
 #include <cstddef>

@@ -370,7 +370,7 @@ class ComposedResidual {
 
     // Series: an iteration corrects one level (the coefficients of degree level + 1 of the stage points, level of
     // the impulses), so from `level` P - 1 - level iterations give every coefficient below the inputs' precision P
-    // (the impulses and z below P - 1, as the engine's inputs) — tests/composition_modified.test.cpp checks that
+    // (the impulses and z below P - 1, as the engine's inputs) — tests/modified/composition_modified.test.cpp checks that
     // the rows then vanish coefficient by coefficient. An iteration needs its rows only below degree level + 1:
     // it works on copies computed to precision level + 2, and its update leaves the higher, provisional
     // coefficients to the next ones; the last one runs at full precision, so the results carry their own

@@ -208,7 +208,7 @@ TEMPLATE_TEST_CASE("rotation: every step satisfies its rows, lies on the rotated
 }
 
 TEST_CASE("rotation: a step from the origin itself is regular", "[foucault][remedy]") {
-  // The paper's step throws NumericalFailure at q_j = 0 (tests/foucault.test.cpp); the remedy's is a
+  // The paper's step throws NumericalFailure at q_j = 0 (tests/systems/foucault.test.cpp); the remedy's is a
   // plain step: the bob crosses the origin along the line.
   const auto sc = scene(1e-3, 1);
   const FoucaultParams<double> p(sc);

@@ -1,6 +1,6 @@
 // The composition as a scheme: its base steps are symmetric maps (q exactly; p up to the constraint impulse),
 // negative stages keep the constraint and the contact action right, failures name the stage, and bad names are
-// refused. Orders: tests/composition_orders.test.cpp; coefficients: tests/composition_families.test.cpp.
+// refused. Orders: tests/schemes/composition_orders.test.cpp; coefficients: tests/schemes/composition_families.test.cpp.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -64,7 +64,7 @@ TEST_CASE("negative stages keep every stage's discrete constraint at round-off",
         const Run run = sys.run(pv, name, 0.1, Path::generic, 1000000);
         INFO(comp.system << " " << name << ": max |Phi_d| over " << run.steps << " steps x " << fam.stages()
                          << " stages = " << run.max_phi_d);
-        // as for the base schemes at h = 0.1 (tests/generic_systems.test.cpp: 2e-15, the terms of Phi_d are O(1)
+        // as for the base schemes at h = 0.1 (tests/systems/generic_systems.test.cpp: 2e-15, the terms of Phi_d are O(1)
         // here), with the rounding of the chord (q_{j+1} - q_j)/(w_i h) of the shortest stage
         double w_min = 1;
         for (const long double w : fam.weights) w_min = std::min(w_min, std::abs(static_cast<double>(w)));

@@ -1,6 +1,6 @@
 // Systems defined by formulas as registry entries (formula_registry.hpp, formula_modified.hpp): the entry of a
 // formula file runs what its header's entry runs, bit for bit where the typed formula system does
-// (tests/formula_systems.test.cpp: pendulum, knife edge), through the same registry calls the programs and the
+// (tests/formula/formula_systems.test.cpp: pendulum, knife edge), through the same registry calls the programs and the
 // Python module make; its modified equations are the header's; the slots are given back.
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 // The output machinery at the level of the shared code: OutputRun (a run's outputs all new or all old, one run per
 // folder, a killed run healed), checked writers that follow no symlink, gnuplot without user text, the command
-// line's strictness, and the size checks. tests/probe.test.cpp drives the same through the programs.
+// line's strictness, and the size checks. tests/programs/probe.test.cpp drives the same through the programs.
 #include <catch2/catch.hpp>
 
 #include <climits>

@@ -5,7 +5,7 @@
 // the floor (at most four consecutive ones: a factor 2.8 in h, the asymptotic range; coarser rungs may be
 // pre-asymptotic or fail, which the fit ignores) and needs at least three.
 // Contact and nonholonomic bases included: the constrained ones keep their order in q although their map on
-// (q, p) is not symmetric (generic/composition.hpp; tests/composition.test.cpp measures the symmetry).
+// (q, p) is not symmetric (generic/composition.hpp; tests/schemes/composition.test.cpp measures the symmetry).
 // The fitted orders are printed (WARN) as a table: build/tests/geomint_tests "[composition][orders]".
 #include <catch2/catch.hpp>
 
