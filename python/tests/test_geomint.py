@@ -85,7 +85,7 @@ def test_integrate_is_the_program(tmp_path, how, args, scheme):
 
 
 def test_formula_file_steps_to_the_header_bits():
-    # the pendulum file associates as its header: the generic steps are the same bits (tests/formula_systems)
+    # the pendulum file associates as its header: the generic steps are the same bits (tests/formula/formula_systems.test.cpp)
     header = geomint.system("pendulum").integrate("la-midpoint", h=0.02, params={"alpha": 0.2, "T": 4}, path="generic")
     formula = geomint.load_system(system_file("pendulum")).integrate(
         "la-midpoint", h=0.02, params={"alpha": 0.2, "T": 4}, path="generic")

@@ -7,7 +7,7 @@
 //
 // The constructors simplify only where the result is the same number for every finite operand (x + 0, x * 1,
 // 0 * x, x / 1, -(-x), x^1): a formula a user writes is evaluated with exactly the operations written, in the
-// order written, so a formula written like a system header gives the header's bits (tests/formula_systems).
+// order written, so a formula written like a system header gives the header's bits (tests/formula/formula_systems.test.cpp).
 // No number is folded with another (2 * 3 stays a product, computed with the parameters in their own scalar
 // type, tape.hpp): a symbolic parameter type keeps exact constants.
 #include <cstdint>
