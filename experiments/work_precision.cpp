@@ -10,8 +10,10 @@
 // The paper's damped oscillator (T = 50, alpha 0.01, 0.1, 1) and the Foucault pendulum over its anomaly-free
 // horizons (T = 4 s with the paper's constraint, 100 s with the rotation) are lines of the Makefile's
 // FIGURE_COMMANDS.
-// Writes out/<system>_work_precision.tsv (errors: the same bits for the same command), ..._timings.tsv and the
-// figure out/<system>_work_precision.{png,pdf} (a panel per parameter combination).
+// Writes out/<system>_work_precision.tsv (errors: the same bits for the same command), ..._timings.tsv,
+// ..._summary.tsv (per combination: each method's CPU time to reach --target, the best geometric scheme's over the
+// best adaptive method's, the slopes; timings) and the figure out/<system>_work_precision.{png,pdf} (a panel per
+// parameter combination).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -38,6 +40,7 @@ int main(int argc, char** argv) {
     opt.baselines = {"odeint-rk4", "odeint-dopri5", "odeint-bulirsch-stoer"};
     opt.tols = {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
     std::string path_name = "fast", norm_name = "max", equations = "ad", adaptive_error = "output";
+    double target = 1e-6;
     cli.options.add_options()("schemes", po::value(&names)->multitoken(), "schemes (default: every scheme of the system)")(
         "h-max", po::value(&h_max)->default_value(h_max, "0.1"), "largest step")(
         "h-min", po::value(&h_min)->default_value(h_min, "1e-3"), "halve until h <= h-min")(
@@ -47,7 +50,10 @@ int main(int argc, char** argv) {
         "tolerances of the adaptive baselines (rel = abs)")(
         "adaptive-error", po::value(&adaptive_error)->default_value(adaptive_error),
         "output (dense output on the grid of h-max, against the reference) or steps (at the steps each chose, "
-        "against the closed form)");
+        "against the closed form)")(
+        "target", po::value(&target)->default_value(target, "1e-6"),
+        "the max error in q the summary asks each method to reach (its cheapest CPU time to reach it, the best "
+        "geometric scheme's over the best adaptive method's)");
     add_baseline_study_options(cli, equations, path_name, norm_name, opt.reps);
     if (!cli.parse(argc, argv)) return 0;
     const SystemInfo& sys = sysopt.system();
@@ -61,6 +67,7 @@ int main(int argc, char** argv) {
     require(equations == "ad" || equations == "rhs", "unknown equations '" + equations + "' (known: ad rhs)");
     require(adaptive_error == "output" || adaptive_error == "steps",
             "unknown adaptive error '" + adaptive_error + "' (known: output steps)");
+    require(std::isfinite(target) && target > 0, "target must be a positive number, got " + format_number(target));
     opt.hand_written = equations == "rhs";
     opt.at_steps = adaptive_error == "steps";
     check_work_precision(sys, combos, opt);
@@ -78,6 +85,7 @@ int main(int argc, char** argv) {
                                  {"baselines", join_names(opt.baselines, " ")}, {"path", to_string(opt.path)},
                                  {"equations", equations}, {"adaptive_error", adaptive_error},
                                  {"reps", std::to_string(opt.reps)}, {"reference", study.reference}, {"norm", to_string(opt.norm)},
+                                 {"target", format_number(target)},
                                  {"error", "max_j |q(t_j) - q_ref(t_j)| (" + std::string(to_string(opt.norm)) +
                                                " norm); adaptive methods: " +
                                                (opt.at_steps ? "at every step they chose" : "dense output at t = k h-max")}});
@@ -112,7 +120,24 @@ int main(int argc, char** argv) {
     data.commit();
     tim.commit();
 
-    // The cheapest time to reach a max error <= 1e-6, per method and combination (from the saved tables).
+    // The summary (summarise_work, as the long-horizon studies'): per combination, each method's cheapest CPU time
+    // to reach the target max error, the best geometric scheme's over the best adaptive method's, and each method's
+    // fitted slope of log(error) against log(time). Written with the timings' caveat: never the same bits twice.
+    const std::vector<WorkSummaryRow> summary = summarise_work(pts, {{"err_max", "max error in q", target}});
+    std::vector<std::string> scols{"kind", "measure", "target"};
+    scols.insert(scols.end(), swept.begin(), swept.end());
+    scols.insert(scols.end(), {"method", "value"});
+    TsvWriter sum(dir / (stem + "_summary.tsv"), "work_precision", params, scols);
+    for (const auto& r : summary) {
+      if (r.kind == "crossover") continue;  // one horizon: no crossover
+      std::vector<std::string> row{r.kind, r.measure, format_cell(r.target)};
+      WorkPoint g;
+      g.group = r.group;
+      for (const auto& k : key(g)) row.push_back(k);
+      row.insert(row.end(), {r.method, format_cell(r.value)});
+      sum.write_row(row);
+    }
+    sum.commit();
     const auto d = plots::read_tsv(dir / (stem + ".tsv"));
     const auto tt = plots::read_tsv(dir / (stem + "_timings.tsv"));
     auto in = [&](std::size_t r, const ParamValues& pv) {
@@ -121,27 +146,29 @@ int main(int argc, char** argv) {
       return true;
     };
     const int width = name_width(methods, 24);
-    std::printf("CPU time to reach max error <= 1e-6 (median, microseconds); '-' = not reached\n%-*s", width, "method");
+    std::printf("CPU time to reach max error <= %s (median, microseconds); '-' = not reached\n%-*s",
+                format_number(target).c_str(), width, "method");
     for (const auto& pv : combos) {
       std::string label;
       for (const auto& s : swept) label += (label.empty() ? "" : ",") + s + "=" + format_number(param_value(pv, sys, s));
       std::printf(" %14s", label.empty() ? sys.name.c_str() : label.c_str());
     }
     std::printf("\n");
-    for (const auto& m : methods) {
-      std::printf("%-*s", width, m.c_str());
-      for (const auto& pv : combos) {
-        double best = INFINITY;
-        for (std::size_t r = 0; r < d.rows.size(); ++r)
-          if (d.text(r, "method") == m && in(r, pv) && d.number(r, "err_max") <= 1e-6)
-            best = std::min(best, tt.number(r, "seconds_median"));
-        if (std::isfinite(best))
-          std::printf(" %14.1f", best * 1e6);
-        else
-          std::printf(" %14s", "-");
-      }
+    auto print_row = [&](const std::string& label, const std::string& kind, const std::string& method, double scale,
+                         const char* format) {
+      std::printf("%-*s", width, label.c_str());
+      for (std::size_t g = 0; g < combos.size(); ++g)
+        for (const auto& r : summary)
+          if (r.kind == kind && r.method == method && r.group == double(g)) {
+            if (std::isfinite(r.value))
+              std::printf(format, r.value * scale);
+            else
+              std::printf(" %14s", "-");
+          }
       std::printf("\n");
-    }
+    };
+    for (const auto& m : methods) print_row(m, "seconds_to_target", m, 1e6, " %14.1f");
+    print_row("geometric/adaptive", "geometric_over_adaptive", "-", 1.0, " %14.3g");
 
     plots::Figure fig;
     fig.title = sys.name + ": max error in q against CPU time (median)";

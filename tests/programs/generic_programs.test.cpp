@@ -7,6 +7,7 @@
 #include <iterator>
 #include <sstream>
 
+#include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "helpers.hpp"
 
@@ -145,4 +146,71 @@ TEST_CASE("stability maps the built-in oscillator only, not a system file that t
                                             "T = 10\n[dynamics]\nL = v1^2/2 - q1^4/4\nF1 = -alpha*v1\n[initial]\nq1 = 1\nv1 = 0\n";
   check_rejected("stability", "--system-file " + (dir / "quartic.geomint").string(),
                  "'oscillator' is not known to be one");
+}
+
+// work_precision's summary is each method's cheapest time to the --target the user sets, per combination: read back
+// from the error and timing tables it wrote beside it, at two targets (a summary that ignored --target would give
+// the same cells at both).
+TEST_CASE("work_precision's summary gives each method's CPU time to the user's target, per combination",
+          "[programs][generic][work_precision]") {
+  std::vector<int> reached_at;
+  int ratios = 0;
+  for (const double target : {1e-3, 1e-6}) {
+    const auto dir = fresh_dir("work-precision-target");
+    const auto r = run_program("work_precision", "--system oscillator --alpha 0.1 1 --T 10 --h-max 0.1 --h-min 0.0125 "
+                                                 "--schemes la la-midpoint --baselines odeint-rk4 odeint-dopri5 "
+                                                 "--tol 1e-3 1e-5 1e-7 1e-9 --reps 1 --target " + format_number(target) +
+                                                 " --out " + dir.string());
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto d = plots::read_tsv(dir / "oscillator_work_precision.tsv");
+    const auto tt = plots::read_tsv(dir / "oscillator_work_precision_timings.tsv");
+    const auto s = plots::read_tsv(dir / "oscillator_work_precision_summary.tsv");
+    REQUIRE(d.rows.size() == tt.rows.size());
+    int reached = 0, missed = 0;
+    for (std::size_t i = 0; i < s.rows.size(); ++i) {
+      const std::string kind = s.text(i, "kind"), method = s.text(i, "method");
+      const double alpha = s.number(i, "alpha");
+      INFO("target " << target << " " << kind << " " << method << " alpha " << alpha);
+      CHECK(s.number(i, "target") == target);
+      // the cheapest time of a method over the rows of its combination whose error is within the target
+      auto best = [&](const std::string& family) {
+        double b = INFINITY;
+        for (std::size_t k = 0; k < d.rows.size(); ++k) {
+          const std::string m = d.text(k, "method");
+          const bool geometric = m == "la" || m == "la-midpoint", adaptive = m == "odeint-dopri5";
+          const bool of = family.empty() ? m == method : family == "geometric" ? geometric : adaptive;
+          if (of && d.number(k, "alpha") == alpha && d.number(k, "err_max") <= target)
+            b = std::min(b, tt.number(k, "seconds_median"));
+        }
+        return b;
+      };
+      if (kind == "seconds_to_target") {
+        const double expect = best("");
+        if (std::isfinite(expect)) {
+          ++reached;
+          CHECK(s.number(i, "value") == expect);
+        } else {
+          ++missed;
+          CHECK(std::isnan(s.number(i, "value")));
+        }
+      } else if (kind == "geometric_over_adaptive") {
+        const double g = best("geometric"), a = best("adaptive");
+        if (std::isfinite(g) && std::isfinite(a)) {
+          ++ratios;
+          CHECK(s.number(i, "value") == Approx(g / a).epsilon(1e-12));
+        } else {
+          CHECK(std::isnan(s.number(i, "value")));
+        }
+      }
+    }
+    // 4 methods x 2 combinations, each cell either way
+    CHECK(reached + missed == 8);
+    CHECK(r.out.find("CPU time to reach max error <= " + format_number(target)) != std::string::npos);
+    reached_at.push_back(reached);
+  }
+  // the tighter target is missed where the looser one is reached: the summary reads the target it is given; and
+  // somewhere both families reach it (a ratio is computed, not only refused)
+  CHECK(reached_at[0] > reached_at[1]);
+  CHECK(ratios > 0);
 }

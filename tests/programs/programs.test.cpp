@@ -47,6 +47,8 @@ const BadInput bad_inputs[] = {
     // every header system writes its equations by hand; a system written as formulas has only those derived from L
     {"work_precision", "--system-file " GEOMINT_SOURCE_DIR "/docs/systems/pendulum.geomint --equations rhs", "no hand-written rhs"},
     {"work_precision", "--equations x", "unknown equations 'x'"},
+    {"work_precision", "--target 0", "target must be a positive number"},
+    {"work_precision", "--target nan", "target must be a positive number"},
 };
 
 }  // namespace
