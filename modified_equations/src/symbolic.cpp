@@ -42,6 +42,36 @@ ex simplify_coefficient(const ex& e) {
 
 namespace {
 
+bool same_matrix(const GiNaC::matrix& a, const GiNaC::matrix& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
+  for (unsigned i = 0; i < a.rows(); ++i)
+    for (unsigned k = 0; k < a.cols(); ++k)
+      if (!a(i, k).is_equal(b(i, k))) return false;
+  return true;
+}
+
+}  // namespace
+
+GiNaC::matrix solve_exact(const GiNaC::matrix& A, const GiNaC::matrix& b) {
+  // a handful: one matrix per Taylor degree of the order asked, at most a few engines on a thread at once
+  constexpr std::size_t kept = 32;
+  thread_local std::vector<std::pair<GiNaC::matrix, GiNaC::matrix>> inverses;
+  const GiNaC::matrix* inverse = nullptr;
+  for (const auto& [M, I] : inverses)
+    if (same_matrix(M, A)) inverse = &I;
+  if (!inverse) {
+    GiNaC::matrix I = A.inverse();
+    for (unsigned i = 0; i < I.rows(); ++i)
+      for (unsigned k = 0; k < I.cols(); ++k) I(i, k) = simplify_coefficient(I(i, k));
+    if (inverses.size() == kept) inverses.erase(inverses.begin());
+    inverses.emplace_back(A, std::move(I));
+    inverse = &inverses.back().second;
+  }
+  return inverse->mul(b);
+}
+
+namespace {
+
 std::string tex_name(const std::string& name) {
   static const std::set<std::string> greek{"alpha", "beta", "gamma", "delta", "epsilon", "kappa", "lambda", "mu",
                                            "nu", "xi", "rho", "sigma", "tau", "phi", "psi", "omega", "theta",

@@ -1,7 +1,8 @@
 #pragma once
 // The modified equation as formulas within a time budget that holds inside an order. GiNaC has no way to stop a
-// call: one exact solve of the Chaplygin sleigh's order 2 is a single matrix::solve that runs for a minute, so no
-// check between GiNaC's calls can stop within a second of a budget. The formulas are therefore derived in a child
+// call, and one call on a large expression (a normal form of the Chaplygin sleigh's order 4 in q', an exact solve
+// with a large right-hand side) runs for seconds, so no check between GiNaC's calls can stop within a second of a
+// budget. The formulas are therefore derived in a child
 // process, one order after the other (orders 0, 1, ..., K, each a complete result sent back as it is done); at
 // the budget (or an interrupt of a watched call, interrupt.hpp) the child is killed and the caller gets the last
 // order the child finished, marked stopped. The caller's own process never runs GiNaC, so it is left as it was.

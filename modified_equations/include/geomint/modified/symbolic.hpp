@@ -40,6 +40,12 @@ GiNaC::ex reduce_trigonometric(const GiNaC::ex& e);
 // normal form (numerator/denominator, trigonometric squares reduced): what the engine keeps of each solved
 // coefficient.
 GiNaC::ex simplify_coefficient(const GiNaC::ex& e);
+// A x = b, exactly. The engine solves with the same few matrices at every order (one per Taylor degree: the
+// Jacobian, or the constrained system's saddle-point matrix, times binomials), while b grows with the order: an
+// elimination on [A | b] carries b's swell through every pivot step (one such solve of the Chaplygin sleigh's
+// order 2 ran for a minute). Each matrix's inverse is therefore found once, in normal form, kept on this thread
+// (keyed by the matrix itself, a few at a time), and a solve is a product.
+GiNaC::matrix solve_exact(const GiNaC::matrix& A, const GiNaC::matrix& b);
 
 template <>
 struct CoefficientTraits<GiNaC::ex> {
@@ -55,14 +61,12 @@ struct CoefficientTraits<GiNaC::ex> {
   static GiNaC::ex simplify(const GiNaC::ex& c) { return simplify_coefficient(c); }
   template <int N>
   static Vec<GiNaC::ex, N> solve(const Mat<GiNaC::ex, N, N>& A, const Vec<GiNaC::ex, N>& b) {
-    GiNaC::matrix M(N, N), rhs(N, 1), x(N, 1);
-    GiNaC::lst vars;
+    GiNaC::matrix M(N, N), rhs(N, 1);
     for (int i = 0; i < N; ++i) {
       for (int k = 0; k < N; ++k) M(i, k) = A(i, k);
       rhs(i, 0) = b(i);
-      x(i, 0) = GiNaC::symbol();
     }
-    const GiNaC::matrix s = M.solve(x, rhs);
+    const GiNaC::matrix s = solve_exact(M, rhs);
     Vec<GiNaC::ex, N> out;
     for (int i = 0; i < N; ++i) out(i) = s(i, 0);
     return out;
