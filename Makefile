@@ -37,6 +37,7 @@ modified_equation --formulas
 modified_equation --system oscillator --order 3 --formulas
 modified_equation --system knife-edge --order 2 --q 0 0 0.3 --v 1 0 0.5 --formulas
 modified_equation --system foucault --schemes la --order 3 --q 0 0.67 --v 3.687e-5 0 --formulas
+modified_equation --system-file docs/systems/chaplygin-sleigh.geomint --order 3 --q 0 0 0 --v 1 0.15 0.5 --formulas --on-constraint
 surrogate --system-file docs/systems/oscillator.geomint --schemes la contact --order 2
 surrogate --system-file docs/systems/foucault.geomint --schemes la --order 2
 surrogate --system-file docs/systems/knife-edge.geomint --schemes la-midpoint la contact --order 2
@@ -127,7 +128,7 @@ bench: build
 	@echo
 	@$(BUILD)/experiments/bench_generic --out $(OUT)
 	@echo
-	@$(BUILD)/experiments/bench_symbolic --out $(OUT)
+	@$(BUILD)/experiments/bench_symbolic --system-files docs/systems/chaplygin-sleigh.geomint --out $(OUT)
 	@echo
 	@$(BUILD)/experiments/bench_surrogate --out $(OUT)
 	@echo

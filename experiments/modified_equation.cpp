@@ -65,17 +65,28 @@ double param_value(const SystemInfo& info, const ParamValues& pv, const std::str
 
 void write_formulas(const std::filesystem::path& dir, const std::string& prefix, const std::string& system, const std::vector<std::string>& schemes,
                     Params header, const std::vector<ModifiedFormulas>& forms) {
-  header.emplace_back("formulas", "the same engine with GiNaC coefficients: parameters and the point (t, q1.., v1.., z) symbolic");
+  const bool charted = std::any_of(forms.begin(), forms.end(), [](const ModifiedFormulas& f) { return !f.chart.empty(); });
+  header.emplace_back("formulas", charted ? "the same engine with GiNaC coefficients: parameters and the point (t, q1.., the "
+                                            "quasi-velocities, z) symbolic, on the constraint (rows v<i>: the map back to q')"
+                                          : "the same engine with GiNaC coefficients: parameters and the point (t, q1.., v1.., z) symbolic");
   header.emplace_back("syntax", "text: define_system reads it, sympy.parse_expr with the symbols as local_dict (powers '^', exact rationals a/b); mathematica: ToExpression (capitalized names in Global`)");
-  // every symbol of every scheme's formulas: t, h, z, the positions, the velocities, then the parameters
+  // every symbol of every scheme's formulas: t, h, z, the positions, the velocities, the quasi-velocities, then the
+  // parameters
   std::vector<std::string> symbols;
   for (const auto& f : forms)
     for (const auto& n : f.symbols)
       if (std::find(symbols.begin(), symbols.end(), n) == symbols.end()) symbols.push_back(n);
-  auto rank = [](const std::string& n) {
+  // a symbol with a value is a parameter; one without, beyond t, h, z, q, v, is a quasi-velocity (--on-constraint)
+  auto parameter = [&](const std::string& n) {
+    for (const auto& f : forms)
+      for (const auto& v : f.values)
+        if (v.first == n) return true;
+    return false;
+  };
+  auto rank = [&](const std::string& n) {
     const bool state = n.size() > 1 && (n[0] == 'q' || n[0] == 'v') &&
                        std::all_of(n.begin() + 1, n.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
-    return n == "t" ? 0 : n == "h" ? 1 : n == "z" ? 2 : state ? (n[0] == 'q' ? 3 : 4) : 5;
+    return n == "t" ? 0 : n == "h" ? 1 : n == "z" ? 2 : state ? (n[0] == 'q' ? 3 : 4) : parameter(n) ? 6 : 5;
   };
   std::stable_sort(symbols.begin(), symbols.end(), [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
   header.emplace_back("symbols", join_names(symbols));
@@ -88,9 +99,9 @@ void write_formulas(const std::filesystem::path& dir, const std::string& prefix,
   for (std::size_t s = 0; s < schemes.size(); ++s) {
     const auto& f = forms[s];
     char line[200];
-    std::snprintf(line, sizeof line, "order %d of %d in %.2f s (budget %g s)%s", f.K, f.K_asked, f.seconds, f.budget,
-                  f.stopped ? ": stopped by the budget" : "");
-    header.emplace_back("formulas " + schemes[s], line);
+    std::snprintf(line, sizeof line, "order %d of %d in %.2f s (budget %g s), %zu nodes%s", f.K, f.K_asked, f.seconds,
+                  f.budget, f.size, f.stopped ? ": stopped by the budget" : "");
+    header.emplace_back("formulas " + schemes[s], f.chart.empty() ? line : line + ("; on the constraint: " + f.chart));
     if (f.stopped)
       std::fprintf(stderr, "modified_equation: the formulas of %s stopped at order %d of %d: the budget of %g s ran out\n",
                    schemes[s].c_str(), f.K, f.K_asked, f.budget);
@@ -141,7 +152,7 @@ int main(int argc, char** argv) {
     int K = 4;
     double t = 0, z = 0;
     std::vector<double> q{0.5}, v{0.3};
-    bool formulas = false;
+    bool formulas = false, on_constraint = false;
     double budget = 60;
     Cli cli("modified_equation", "the modified equation q'' = sum_k h^k F_k of a scheme at a point, to order K");
     // --system or --system-file, and the system's parameters as options of their own (--alpha 0.2), as every program
@@ -153,6 +164,9 @@ int main(int argc, char** argv) {
         "v", po::value(&v)->multitoken()->default_value(v, "0.3"), "velocity q' (n components)")(
         "z", po::value(&z)->default_value(z), "Herglotz action z (contact schemes)")(
         "formulas", po::bool_switch(&formulas), "also derive the modified equation as formulas (text, Mathematica, LaTeX)")(
+        "on-constraint", po::bool_switch(&on_constraint),
+        "formulas on the nonholonomic constraint: in quasi-velocities (q' = S(q) u + w, the rows v<i> the map back), "
+        "smaller and found sooner")(
         "budget", po::value(&budget)->default_value(budget), "time budget of the formulas, seconds per scheme");
     if (!cli.parse(argc, argv)) return 0;
 
@@ -163,6 +177,11 @@ int main(int argc, char** argv) {
     std::shared_ptr<const ModifiedSystem> file_ms;
     if (!system_file.empty()) file_ms = formula_modified_system(formula::load_system_file(system_file));
     const auto& ms = file_ms ? *file_ms : find_modified_system(system);
+    if (on_constraint) {
+      require(formulas, "--on-constraint is a form of the formulas: give --formulas with it");
+      require(info.constraints > 0 && !ms.holonomic,
+              "--on-constraint: system '" + system + "' has no nonholonomic constraint to chart");
+    }
     const ParamValues pv = sys_opts.values();
     require(K >= 0 && K <= registry_max_order, "order must be in [0, " + std::to_string(registry_max_order) + "], got " + std::to_string(K));
     require(std::isfinite(t) && std::isfinite(z), "t and z must be finite");
@@ -184,7 +203,7 @@ int main(int argc, char** argv) {
     for (const auto& s : schemes) points.push_back(ms.at(pv, s, K, t, q, v, z, true));
     std::vector<ModifiedFormulas> forms;
     if (formulas)
-      for (const auto& s : schemes) forms.push_back(bounded_formulas(ms, pv, s, K, budget));  // the budget holds inside an order
+      for (const auto& s : schemes) forms.push_back(bounded_formulas(ms, pv, s, K, budget, on_constraint));  // the budget holds inside an order
 
     const auto dir = prepare_output_dir(cli.out);
     Params header = info.header(pv);

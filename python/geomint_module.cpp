@@ -486,15 +486,17 @@ py::list formula_rows(const std::vector<Row>& rows) {
 }
 
 py::dict modified_formulas(const System& s, const std::string& scheme, int K, double budget, const py::dict& params,
-                           const py::object& progress) {
+                           bool on_constraint, const py::object& progress) {
   const ParamValues pv = param_values(params);
   modified::formula_scheme(s.info(), scheme);
   require(std::isfinite(budget) && budget > 0, "budget must be a positive number of seconds");
+  require(!on_constraint || (s.info().constraints > 0 && !s.modified().holonomic),
+          "modified_formulas(on_constraint=True): system '" + s.info().name + "' has no nonholonomic constraint to chart");
   warn_contact(s, {pv}, {scheme});
   const auto& ms = s.modified();
   // in a child process, so that the budget holds inside an order (bounded_formulas.hpp)
   const modified::ModifiedFormulas f =
-      watched(progress, [&] { return modified::bounded_formulas(ms, pv, scheme, K, budget); });
+      watched(progress, [&] { return modified::bounded_formulas(ms, pv, scheme, K, budget, on_constraint); });
   if (f.stopped) {
     const std::string why =
         "modified_formulas(" + scheme + ", order=" + std::to_string(K) + "): the budget of " + show(budget) +
@@ -512,6 +514,8 @@ py::dict modified_formulas(const System& s, const std::string& scheme, int K, do
   d["symbols"] = f.symbols;
   d["values"] = f.values;
   d["rows"] = rows;
+  d["size"] = f.size;
+  d["chart"] = f.chart;
   return d;
 }
 
@@ -877,7 +881,7 @@ PYBIND11_MODULE(_geomint, m) {
            py::arg("params") = py::dict(), py::arg("progress") = py::none(),
            "q'' = sum_k h^k F_k at (t, q, q', z) (default: the initial data); also Z, mu, phi, the modified Lagrangian")
       .def("modified_formulas", &modified_formulas, py::arg("scheme"), py::arg("order") = 4, py::arg("budget") = 60.0,
-           py::arg("params") = py::dict(), py::arg("progress") = py::none(),
+           py::arg("params") = py::dict(), py::arg("on_constraint") = false, py::arg("progress") = py::none(),
            "the modified equation as formulas (text, Mathematica, LaTeX), every parameter a symbol, derived in a "
            "child process so that the budget (seconds) holds inside an order: when it runs out the call returns the "
            "orders finished (K < K_asked, stopped) with a GeomintWarning naming the order reached")

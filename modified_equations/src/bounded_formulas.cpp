@@ -76,7 +76,9 @@ std::string pack(const ModifiedFormulas& f) {
   w.put(static_cast<std::uint64_t>(f.values.size()));
   for (const auto& [k, v] : f.values) w.put(k).put(v);
   w.put(static_cast<std::uint64_t>(f.rows.size()));
-  for (const auto& r : f.rows) w.put(r.quantity).put(static_cast<std::uint64_t>(r.k)).put(r.text).put(r.mathematica).put(r.latex);
+  for (const auto& r : f.rows)
+    w.put(r.quantity).put(static_cast<std::uint64_t>(r.k)).put(r.text).put(r.mathematica).put(r.latex).put(static_cast<std::uint64_t>(r.size));
+  w.put(static_cast<std::uint64_t>(f.size)).put(f.chart);
   return w.s;
 }
 
@@ -100,8 +102,11 @@ ModifiedFormulas unpack(const std::string& s) {
     row.text = r.str();
     row.mathematica = r.str();
     row.latex = r.str();
+    row.size = static_cast<std::size_t>(r.u());
     f.rows.push_back(std::move(row));
   }
+  f.size = static_cast<std::size_t>(r.u());
+  f.chart = r.str();
   return f;
 }
 
@@ -126,7 +131,7 @@ void send(int fd, char kind, const std::string& body) {
 // The child: orders 0..K, each sent when done; ends with _exit (the parent's atexit handlers, Python's among them,
 // are not the child's to run).
 [[noreturn]] void child(int fd, const ModifiedSystem& ms, const ParamValues& pv, const std::string& scheme, int K,
-                        double budget, Clock::time_point start) {
+                        double budget, bool on_constraint, Clock::time_point start) {
   // The parent's interrupt handlers (a program's cleanup of its outputs, Python's) are not the child's: a signal
   // ends it, and so does the parent's death.
   for (int s = 1; s < NSIG; ++s)
@@ -137,7 +142,7 @@ void send(int fd, char kind, const std::string& body) {
     for (int k = 0; k <= K; ++k) {
       const double left = budget - std::chrono::duration<double>(Clock::now() - start).count();
       if (left <= 0) break;
-      const ModifiedFormulas f = ms.formulas(pv, scheme, k, left);
+      const ModifiedFormulas f = ms.formulas(pv, scheme, k, left, on_constraint);
       send(fd, 'R', pack(f));
       if (f.stopped) break;
     }
@@ -155,7 +160,7 @@ void send(int fd, char kind, const std::string& body) {
 }  // namespace
 
 ModifiedFormulas bounded_formulas(const ModifiedSystem& ms, const ParamValues& pv, const std::string& scheme, int K,
-                                  double budget_seconds) {
+                                  double budget_seconds, bool on_constraint) {
   require(std::isfinite(budget_seconds) && budget_seconds > 0, "budget must be a positive number of seconds");
   const Clock::time_point start = Clock::now();
   int fds[2];
@@ -168,7 +173,7 @@ ModifiedFormulas bounded_formulas(const ModifiedSystem& ms, const ParamValues& p
   }
   if (pid == 0) {
     ::close(fds[0]);
-    child(fds[1], ms, pv, scheme, K, budget_seconds, start);
+    child(fds[1], ms, pv, scheme, K, budget_seconds, on_constraint, start);
   }
   ::close(fds[1]);
   const int fd = fds[0];

@@ -70,6 +70,12 @@ GiNaC::matrix solve_exact(const GiNaC::matrix& A, const GiNaC::matrix& b) {
   return inverse->mul(b);
 }
 
+std::size_t expression_size(const ex& e) {
+  std::size_t n = 1;
+  for (std::size_t i = 0; i < e.nops(); ++i) n += expression_size(e.op(i));
+  return n;
+}
+
 namespace {
 
 std::string tex_name(const std::string& name) {
@@ -124,7 +130,160 @@ GiNaC::lst FormulaSymbols::all() const {
   for (const auto& s : q) l.append(s);
   for (const auto& s : v) l.append(s);
   for (const auto& s : params) l.append(s);
+  for (const auto& s : u) l.append(s);
   return l;
+}
+
+namespace {
+
+std::size_t terms(const ex& e) {
+  const ex x = e.expand();
+  return GiNaC::is_a<GiNaC::add>(x) ? x.nops() : 1;
+}
+
+// The m-subsets of 0..n-1 in lexicographic order.
+std::vector<std::vector<int>> subsets(int n, int m) {
+  std::vector<std::vector<int>> out;
+  std::vector<int> c(static_cast<std::size_t>(m));
+  for (int i = 0; i < m; ++i) c[static_cast<std::size_t>(i)] = i;
+  while (true) {
+    out.push_back(c);
+    int i = m - 1;
+    while (i >= 0 && c[static_cast<std::size_t>(i)] == n - m + i) --i;
+    if (i < 0) return out;
+    ++c[static_cast<std::size_t>(i)];
+    for (int k = i + 1; k < m; ++k) c[static_cast<std::size_t>(k)] = c[static_cast<std::size_t>(k - 1)] + 1;
+  }
+}
+
+}  // namespace
+
+ConstraintChart constraint_chart(const std::vector<std::vector<ex>>& A, const std::vector<ex>& b, FormulaSymbols& sy) {
+  const int m = static_cast<int>(A.size()), n = static_cast<int>(sy.q.size());
+  require(m >= 1 && m < n && static_cast<int>(b.size()) == m, "a constraint chart needs 1 <= m < n rows");
+  const auto U = [](int i) { return static_cast<std::size_t>(i); };
+  // the pivot columns D: the nonzero m x m minor with the fewest terms
+  std::vector<int> D;
+  std::size_t best = 0;
+  for (const auto& c : subsets(n, m)) {
+    GiNaC::matrix M(U(m), U(m));
+    for (int r = 0; r < m; ++r)
+      for (int k = 0; k < m; ++k) M(U(r), U(k)) = A[U(r)][U(c[U(k)])];
+    const ex d = simplify_coefficient(M.determinant());
+    if (d.is_zero()) continue;
+    if (D.empty() || terms(d) < best) {
+      D = c;
+      best = terms(d);
+    }
+  }
+  if (D.empty())
+    throw InputError("the constraint rows are dependent (every " + std::to_string(m) + " x " + std::to_string(m) +
+                     " minor of their matrix is 0): no chart on the constraint");
+  GiNaC::matrix AD(U(m), U(m));
+  for (int r = 0; r < m; ++r)
+    for (int k = 0; k < m; ++k) AD(U(r), U(k)) = A[U(r)][U(D[U(k)])];
+  const GiNaC::matrix ADinv = AD.inverse();
+  // a column without denominators and without a common factor (the trigonometric atoms taken as symbols)
+  auto tidy = [&](std::vector<ex> col) {
+    ex scale = 1;
+    for (auto& e : col) {
+      e = simplify_coefficient(e);
+      const ex d = e.normal().denom();
+      if (!GiNaC::is_a<GiNaC::numeric>(d) && !GiNaC::is_a<GiNaC::numeric>(simplify_coefficient(scale / d).normal().denom()))
+        scale = scale * d;
+    }
+    GiNaC::exmap atoms;
+    std::vector<ex> poly;
+    ex g = 0;
+    for (auto& e : col) {
+      e = simplify_coefficient(e * scale);
+      poly.push_back(e.to_polynomial(atoms));
+      g = g.is_zero() ? poly.back() : GiNaC::gcd(g, poly.back());
+    }
+    g = g.subs(atoms);
+    if (!GiNaC::is_a<GiNaC::numeric>(g))
+      for (auto& e : col) e = simplify_coefficient(e / g);
+    return col;
+  };
+  // the kernel's columns, one per velocity outside D, made orthogonal (Gram-Schmidt in the coordinates' metric):
+  // e_i - A_D^-1 A_i spans the kernel; orthogonal, it gives the charts the text books take (the sleigh's
+  // (cos q3, sin q3, 0) and (-a sin q3, a cos q3, 1): its speed along the heading and its turning rate)
+  std::vector<int> I;
+  for (int i = 0; i < n; ++i)
+    if (std::find(D.begin(), D.end(), i) == D.end()) I.push_back(i);
+  std::vector<std::vector<ex>> cols;
+  for (int i : I) {
+    GiNaC::matrix Ai(U(m), 1);
+    for (int r = 0; r < m; ++r) Ai(U(r), 0) = A[U(r)][U(i)];
+    const GiNaC::matrix x = ADinv.mul(Ai);
+    std::vector<ex> col(U(n), ex(0));
+    col[U(i)] = 1;
+    for (int k = 0; k < m; ++k) col[U(D[U(k)])] = -x(U(k), 0);
+    col = tidy(col);
+    for (const auto& p : cols) {
+      ex cp = 0, pp = 0;
+      for (int k = 0; k < n; ++k) {
+        cp += col[U(k)] * p[U(k)];
+        pp += p[U(k)] * p[U(k)];
+      }
+      const ex f = simplify_coefficient(cp / pp);
+      if (f.is_zero()) continue;
+      for (int k = 0; k < n; ++k) col[U(k)] -= f * p[U(k)];
+      col = tidy(col);
+    }
+    cols.push_back(col);
+  }
+  // the particular solution: least squares, orthogonal to the kernel
+  std::vector<ex> w(U(n), ex(0));
+  bool offset = false;
+  for (const auto& x : b) offset = offset || !simplify_coefficient(x).is_zero();
+  if (offset) {
+    GiNaC::matrix bb(U(m), 1), AA(U(m), U(n));
+    for (int r = 0; r < m; ++r) {
+      bb(U(r), 0) = b[U(r)];
+      for (int i = 0; i < n; ++i) AA(U(r), U(i)) = A[U(r)][U(i)];
+    }
+    const GiNaC::matrix x = AA.transpose().mul(AA.mul(AA.transpose()).inverse().mul(bb));
+    for (int i = 0; i < n; ++i) w[U(i)] = simplify_coefficient(-x(U(i), 0));
+  }
+  // the quasi-velocities' names: u1..u(n-m), unless a parameter has one of them
+  std::string prefix = "u";
+  for (const char* candidate : {"u", "w", "r", "uq"}) {
+    prefix = candidate;
+    bool clash = false;
+    for (const auto& p : sy.params)
+      for (int k = 1; k <= n - m; ++k) clash = clash || p.get_name() == prefix + std::to_string(k);
+    if (!clash) break;
+  }
+  ConstraintChart chart;
+  chart.v = w;
+  for (std::size_t c = 0; c < cols.size(); ++c) {
+    const int i = I[c];
+    // a column e_i with no offset in its row: q'_i is its own quasi-velocity (no other column has an entry there)
+    bool unit = w[U(i)].is_zero();
+    for (int k = 0; k < n; ++k) unit = unit && (cols[c][U(k)] - (k == i ? 1 : 0)).is_zero();
+    ex u = sy.v[U(i)];
+    if (!unit) {
+      sy.u.emplace_back(prefix + std::to_string(sy.u.size() + 1));
+      u = sy.u.back();
+    }
+    for (int k = 0; k < n; ++k) chart.v[U(k)] += cols[c][U(k)] * u;
+  }
+  for (int i = 0; i < n; ++i) {
+    chart.v[U(i)] = simplify_coefficient(chart.v[U(i)]);
+    if (!chart.v[U(i)].is_equal(sy.v[U(i)])) chart.mapped.push_back(i);
+  }
+  // the chart lies on the constraint, identically
+  for (int r = 0; r < m; ++r) {
+    ex phi = b[U(r)];
+    for (int i = 0; i < n; ++i) phi += A[U(r)][U(i)] * chart.v[U(i)];
+    if (!simplify_coefficient(phi).is_zero())
+      throw std::logic_error("constraint chart: row " + std::to_string(r + 1) + " does not vanish on the chart");
+  }
+  chart.how = "an orthogonal basis of the constraint's kernel" +
+              (sy.u.empty() ? std::string() : ", quasi-velocities " + prefix + "1.." + prefix + std::to_string(sy.u.size())) +
+              (offset ? ", the offset by least squares" : "");
+  return chart;
 }
 
 namespace {

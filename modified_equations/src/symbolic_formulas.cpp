@@ -36,7 +36,8 @@ ModifiedFormulas formula_rows(const SymbolicResult& r, const FormulaSymbols& sy)
   auto add = [&](const std::string& quantity, int k, const ex& e) {
     const ex d = display_form(e);
     shown.push_back(d);
-    f.rows.push_back({quantity, k, formula_text(d), formula_mathematica(d), formula_latex(d)});
+    f.rows.push_back({quantity, k, formula_text(d), formula_mathematica(d), formula_latex(d), expression_size(d)});
+    f.size += f.rows.back().size;
   };
   const auto idx = [](int i, int count) { return count == 1 ? std::string() : std::to_string(i + 1); };
   for (int k = 0; k <= r.K; ++k) {
@@ -51,6 +52,9 @@ ModifiedFormulas formula_rows(const SymbolicResult& r, const FormulaSymbols& sy)
   }
   for (std::size_t k = 0; k < r.phi.size(); ++k)
     for (int c = 0; c < r.m; ++c) add("phi" + idx(c, r.m), static_cast<int>(k), r.phi[k][static_cast<std::size_t>(c)]);
+  // on the constraint: the map back to the velocities
+  for (int i : r.mapped) add("v" + std::to_string(i + 1), 0, r.v[static_cast<std::size_t>(i)]);
+  f.chart = r.chart;
   // the symbols the formulas use (h always: the series are in it)
   for (const auto& s : sy.all()) {
     bool used = s.is_equal(sy.h);

@@ -229,14 +229,18 @@ def _sympy_symbols(system, names, symbols):
     return table
 
 
-def modified_formulas(self, scheme, order=4, budget=60.0, params=None, progress=None, as_sympy=False, symbols=None):
-    """The modified equation as formulas: {K, K_asked, stopped, seconds, symbols, values, rows}, each row
-    {quantity, k, text, mathematica, latex}, in the names that went in (docs/formulas.md, "Names"). With
+def modified_formulas(self, scheme, order=4, budget=60.0, params=None, progress=None, as_sympy=False, symbols=None,
+                      on_constraint=False):
+    """The modified equation as formulas: {K, K_asked, stopped, seconds, symbols, values, rows, size, chart}, each
+    row {quantity, k, text, mathematica, latex}, in the names that went in (docs/formulas.md, "Names"). With
+    on_constraint=True (a nonholonomic system) the velocities are quasi-velocities on the constraint, q' = S(q) u + w,
+    the rows 'v<i>' the map back and 'chart' says how they were chosen. With
     as_sympy=True each row also has 'sympy', the expression built from the user's own symbols (those of the sympy
     expressions define_system was given, then `symbols`, a dict or list of sympy symbols, then plain
     sympy.Symbol(name) for the rest), and the result 'sympy_symbols' {name: symbol}, so that subs, lambdify and
     latex apply to them."""
-    f = _modified_formulas(self, scheme, order=order, budget=budget, params=dict(params or {}), progress=progress)
+    f = _modified_formulas(self, scheme, order=order, budget=budget, params=dict(params or {}),
+                           on_constraint=on_constraint, progress=progress)
     if as_sympy:
         _sympy()
         from sympy.parsing.sympy_parser import convert_xor, parse_expr, standard_transformations

@@ -47,7 +47,7 @@ int main() try {
   check(std::abs(point.F_at(0, 0) + std::sin(1.0)) < 1e-14, "F_0 = -sin(1)");
   check(std::abs(point.F_at(1, 0)) < 1e-14, "F_1 = 0");
   // The same as formulas (GiNaC): the order-0 row is the equation of motion, in sin of the angle and alpha.
-  const auto formulas = modified.formulas(params, "la-midpoint", 2, 60);
+  const auto formulas = modified.formulas(params, "la-midpoint", 2, 60, false);
   std::string f0;
   for (const auto& row : formulas.rows)
     if (row.quantity == "F" && row.k == 0) f0 = row.text;

@@ -7,9 +7,12 @@
 #include <cctype>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <random>
 #include <regex>
 
+#include "geomint/formula/model.hpp"
+#include "geomint/modified/formula_modified.hpp"
 #include "geomint/modified/symbolic_system.hpp"
 #include "geomint/registry.hpp"
 #include "geomint/systems/foucault.hpp"
@@ -174,7 +177,7 @@ TEST_CASE("formulas equal the numbers at random points, every registered system 
     for (const auto& scheme : ms.schemes) {
       ModifiedFormulas f;
       try {
-        f = ms.formulas({}, scheme, K, 30);
+        f = ms.formulas({}, scheme, K, 30, false);
       } catch (const InputError& e) {
         WARN(ms.name << ": " << e.what());
         continue;
@@ -249,7 +252,7 @@ TEST_CASE("formulas: sympy reads the text as the numbers", "[symbolic][sympy]") 
     FAIL("python3-sympy is not installed (make deps installs it)");
   }
   const auto& ms = find_modified_system("pendulum");
-  const auto f = ms.formulas({}, "contact", 3, 30);
+  const auto f = ms.formulas({}, "contact", 3, 30, false);
   const double q = 0.6, v = -0.35, z = 0.25;
   const auto dir = geomint::testing::fresh_dir("sympy");
   {
@@ -332,6 +335,46 @@ TEST_CASE("modified_equation --formulas rejects a bad budget", "[symbolic][progr
   geomint::testing::check_rejected("modified_equation", "--formulas --budget nan", "--budget");
 }
 
+TEST_CASE("modified_equation --formulas --on-constraint: the knife edge in its body velocities, the map back in rows v<i>",
+          "[symbolic][programs][nonholonomic]") {
+  const auto dir = geomint::testing::fresh_dir("formulas_on_constraint");
+  const auto r = geomint::testing::run_program(
+      "modified_equation", "--system knife-edge --schemes la --order 1 --q 0 0 0.3 --v 1 0 0.5 --formulas --on-constraint --out " +
+                               dir.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string txt = geomint::testing::read_bytes(dir / "knife-edge_modified_equation_formulas.txt");
+  CHECK(txt.find("on the constraint: an orthogonal basis of the constraint's kernel, quasi-velocities u1..u1") != std::string::npos);
+  CHECK(txt.find("# symbols: h q1 q2 q3 v3 u1 ") != std::string::npos);
+  // the map back: q'1 = cos(q3) u1; the formulas use u1 and v3 and no longer v1, v2
+  std::istringstream lines(txt);
+  std::string line;
+  bool map_found = false;
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string c; std::getline(row, c, '\t');) cells.push_back(c);
+    if (cells.size() != 6 || cells[0] != "knife-edge") continue;
+    ++rows;
+    CHECK(cells[4].find("v1") == std::string::npos);
+    CHECK(cells[4].find("v2") == std::string::npos);
+    if (cells[2] == "v1" && cells[3] == "0") {
+      GiNaC::symtab table;
+      const ex e = parse_formula(cells[4], {"q3", "u1"}, table);
+      CHECK(same(e, cos(table["q3"]) * table["u1"]));
+      map_found = true;
+    }
+  }
+  CHECK(map_found);
+  CHECK(rows > 10);
+  std::filesystem::remove_all(dir);
+  geomint::testing::check_rejected("modified_equation", "--system knife-edge --on-constraint", "--formulas");
+  geomint::testing::check_rejected("modified_equation", "--system pendulum --formulas --on-constraint",
+                                   "no nonholonomic constraint");
+}
+
 TEST_CASE("formulas: the knife edge's modified equation, multiplier and constraint (la, contact) to K = 2", "[symbolic][nonholonomic]") {
   for (bool contact : {false, true}) {
     auto check = [&](auto& f) {
@@ -394,4 +437,124 @@ TEST_CASE("formulas: the Foucault constraint (13) near the origin, |F_1| = s V^2
   CHECK(leading(f.r.F[1][0], -1).is_zero());
   // contact: the same leading F_1 (the two principles share the constraint's discretization)
   CHECK(same(leading_of(c, c.r.F[1][1], -1), s * V * V));
+}
+
+TEST_CASE("formulas on the constraint equal the formulas in q' there, exactly: the sleigh, the knife edge, Foucault (13)",
+          "[symbolic][nonholonomic]") {
+  // The same engine run twice: at a point (q, q') with q' free, and at q' = S(q) u + w on the constraint
+  // (constraint_chart). On the constraint the two must agree exactly: every row of the first at the chart's
+  // velocities equals the row of the second, at random rational points (q, u, t, z; the parameters at their
+  // values as exact rationals), the difference simplified to 0 — sin and cos of a rational stay exact atoms.
+  const auto sleigh = formula_modified_system(
+      formula::load_system_file(std::string(GEOMINT_SOURCE_DIR) + "/docs/systems/chaplygin-sleigh.geomint"));
+  struct Case {
+    const ModifiedSystem* ms;
+    std::string scheme;
+    int K;
+    std::string chart;  // how the chart was chosen
+  };
+  const std::string basis = "an orthogonal basis of the constraint's kernel, quasi-velocities ";
+  const std::vector<Case> cases{{sleigh.get(), "la", 2, basis + "u1..u2"},
+                                {sleigh.get(), "contact", 2, basis + "u1..u2"},
+                                {&find_modified_system("knife-edge"), "la", 2, basis + "u1..u1"},
+                                {&find_modified_system("knife-edge"), "contact", 2, basis + "u1..u1"},
+                                {&find_modified_system("foucault"), "contact", 2, basis + "u1..u1, the offset by least squares"},
+                                {&find_modified_system("foucault"), "la", 2, basis + "u1..u1, the offset by least squares"}};
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> num(-9, 9);
+  const auto rational = [&] { return ex(GiNaC::numeric(num(rng), 10)); };
+  for (const auto& c : cases) {
+    INFO(c.ms->name << " " << c.scheme << " K " << c.K);
+    const ModifiedFormulas free = c.ms->formulas({}, c.scheme, c.K, 120, false);
+    const ModifiedFormulas on = c.ms->formulas({}, c.scheme, c.K, 120, true);
+    REQUIRE(free.K == c.K);
+    REQUIRE(on.K == c.K);
+    CHECK(free.chart.empty());
+    CHECK(on.chart == c.chart);
+    GiNaC::symtab table;
+    std::vector<std::string> names = free.symbols;
+    names.insert(names.end(), on.symbols.begin(), on.symbols.end());
+    for (const auto& s : names)
+      if (!table.count(s)) table[s] = GiNaC::symbol(s);
+    // the point: every symbol of the reduced formulas (q, the quasi-velocities, t, z), the parameters' values
+    GiNaC::exmap point;
+    for (const auto& s : on.symbols) point[table[s]] = rational();
+    for (const auto& [name, x] : on.values) point[table[name]] = exact_rational(x);
+    for (const auto& [name, x] : free.values) point[table[name]] = exact_rational(x);
+    // q' there: the map back where the chart gives one, else the velocity is its own quasi-velocity
+    GiNaC::exmap velocities;
+    for (int i = 0; i < c.ms->dof; ++i) {
+      const std::string v = "v" + std::to_string(i + 1);
+      ex at = point.count(table[v]) ? point[table[v]] : ex(0);
+      for (const auto& row : on.rows)
+        if (row.quantity == v) at = parse_formula(row.text, on.symbols, table).subs(point);
+      velocities[table[v]] = at;
+    }
+    GiNaC::exmap full = point;
+    for (const auto& [k, x] : velocities) full[k] = x;
+    int compared = 0;
+    for (const auto& row : free.rows) {
+      const FormulaRow* twin = nullptr;
+      for (const auto& r : on.rows)
+        if (r.quantity == row.quantity && r.k == row.k) twin = &r;
+      REQUIRE(twin != nullptr);
+      INFO(row.quantity << " k " << row.k << ": " << row.text << "  |  " << twin->text);
+      const ex a = parse_formula(row.text, free.symbols, table).subs(full);
+      const ex b = parse_formula(twin->text, on.symbols, table).subs(point);
+      CHECK(same(a, b));
+      ++compared;
+    }
+    CHECK(compared >= 2 * (c.K + 1));
+    // on the constraint it holds by construction: the modified constraint's h^0 term is 0 as a formula
+    for (const auto& r : on.rows)
+      if (r.quantity == "phi" && r.k == 0) CHECK(r.text == "0");
+    // and what is printed is smaller
+    CHECK(on.size < free.size);
+  }
+}
+
+TEST_CASE("constraint charts: the sleigh and the knife edge in body velocities, Foucault (13) in polar ones",
+          "[symbolic][nonholonomic]") {
+  const auto sleigh = formula_modified_system(
+      formula::load_system_file(std::string(GEOMINT_SOURCE_DIR) + "/docs/systems/chaplygin-sleigh.geomint"));
+  auto map = [](const ModifiedFormulas& f, GiNaC::symtab& table) {
+    std::map<std::string, ex> v;
+    for (const auto& r : f.rows)
+      if (r.quantity.size() > 1 && r.quantity[0] == 'v' && std::isdigit(static_cast<unsigned char>(r.quantity[1])))
+        v[r.quantity] = parse_formula(r.text, f.symbols, table);
+    return v;
+  };
+  {
+    GiNaC::symtab t;
+    const auto f = sleigh->formulas({}, "la", 0, 60, true);
+    const auto v = map(f, t);
+    // -sin(q3) v1 + cos(q3) v2 - a v3 = 0: q' = u1 (cos q3, sin q3, 0) + u2 (-a sin q3, a cos q3, 1), the speed along
+    // the heading and the turning rate
+    REQUIRE(v.size() == 3);
+    const ex q3 = t["q3"], u1 = t["u1"], u2 = t["u2"], a = t["a"];
+    CHECK(same(v.at("v1"), cos(q3) * u1 - a * sin(q3) * u2));
+    CHECK(same(v.at("v2"), sin(q3) * u1 + a * cos(q3) * u2));
+    CHECK(same(v.at("v3"), u2));
+  }
+  {
+    GiNaC::symtab t;
+    const auto f = find_modified_system("knife-edge").formulas({}, "la", 0, 60, true);
+    const auto v = map(f, t);
+    // sin(q3) v1 = cos(q3) v2: q' = u1 (cos q3, sin q3, 0) + v3 e3, the blade's speed and turning rate
+    REQUIRE(v.size() == 2);
+    const ex q3 = t["q3"], u1 = t["u1"];
+    CHECK(same(v.at("v1"), cos(q3) * u1));
+    CHECK(same(v.at("v2"), sin(q3) * u1));
+    CHECK_FALSE(same(v.at("v2"), cos(q3) * u1));
+  }
+  {
+    GiNaC::symtab t;
+    const auto f = find_modified_system("foucault").formulas({}, "contact", 0, 60, true);
+    const auto v = map(f, t);
+    // -q2 v1 + q1 v2 + s (q1^2 + q2^2) = 0: q' = u1 (q1, q2) + s (q2, -q1), radial motion and the imposed turning
+    REQUIRE(v.size() == 2);
+    const ex q1 = t["q1"], q2 = t["q2"], u1 = t["u1"], s = t["s"];
+    CHECK(same(v.at("v1"), u1 * q1 + s * q2));
+    CHECK(same(v.at("v2"), u1 * q2 - s * q1));
+  }
 }

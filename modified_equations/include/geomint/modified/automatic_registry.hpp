@@ -58,9 +58,11 @@ struct ModifiedAgreement {
 // and `latex`. Symbols: t, h, z, q1..qn, v1..vn (the velocities), and the system's parameters by their own names
 // (docs/formulas.md, "Names": Mathematica's column writes a capitalized one in Global`).
 struct FormulaRow {
-  std::string quantity;  // F<i>, Z, mu<c>, phi<c>, L (modified Lagrangian), Fmod<i> (modified force)
+  std::string quantity;  // F<i>, Z, mu<c>, phi<c>, L (modified Lagrangian), Fmod<i> (modified force); on the
+                         // constraint also v<i> (k = 0): the velocity q'_i in the quasi-velocities (the map back)
   int k = 0;             // the power of h
   std::string text, mathematica, latex;
+  std::size_t size = 0;  // nodes of its expression tree (symbolic.hpp's expression_size)
 };
 struct ModifiedFormulas {
   int K_asked = 0, K = 0;  // the order asked and the order reached within the budget
@@ -70,6 +72,9 @@ struct ModifiedFormulas {
   // the parameters' symbols at the values the call was given (to evaluate a formula at a run's parameters)
   std::vector<std::pair<std::string, double>> values;
   std::vector<FormulaRow> rows;
+  std::size_t size = 0;  // nodes of every row's expression tree, in all
+  // On the constraint: how the velocities were charted (constraint_chart in symbolic.hpp); "" otherwise.
+  std::string chart;
 };
 
 struct ModifiedSystem {
@@ -90,8 +95,11 @@ struct ModifiedSystem {
   std::vector<double> (*shoot)(const ParamValues&, const std::string& scheme, int K, double h, double tol) = nullptr;
   // The modified equation of `scheme` as formulas to order K, every parameter a symbol (ModifiedFormulas::values
   // gives their values at the parameters passed), within a time budget (seconds); InputError for a system that
-  // has no symbolic parameter type.
-  ModifiedFormulas (*formulas)(const ParamValues&, const std::string& scheme, int K, double budget_seconds) = nullptr;
+  // has no symbolic parameter type. `on_constraint` (a system with nonholonomic constraints): the point's velocities
+  // are q' = S(t, q) u + w(t, q) in quasi-velocities u, so that the formulas live on the constraint (smaller, and
+  // found sooner); the rows v<i> give the map back. Ignored by a system without such constraints.
+  ModifiedFormulas (*formulas)(const ParamValues&, const std::string& scheme, int K, double budget_seconds,
+                               bool on_constraint) = nullptr;
 };
 
 const std::vector<ModifiedSystem>& all_modified_systems();

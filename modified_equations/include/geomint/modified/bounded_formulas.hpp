@@ -12,11 +12,11 @@
 
 namespace geomint::modified {
 
-// ms.formulas(pv, scheme, K, budget) with the budget held to about 0.1 s, inside an order. K is the order
+// ms.formulas(pv, scheme, K, budget, on_constraint) with the budget held to about 0.1 s, inside an order. K is the order
 // reached (-1 with no rows when not even order 0 was finished); stopped says the budget ran out before order
 // K_asked; seconds is the wall time. The child's InputError is rethrown as one. Interrupted (interrupt.hpp) when a
 // watched call is stopped meanwhile.
 ModifiedFormulas bounded_formulas(const ModifiedSystem& ms, const ParamValues& pv, const std::string& scheme, int K,
-                                  double budget_seconds);
+                                  double budget_seconds, bool on_constraint = false);
 
 }  // namespace geomint::modified

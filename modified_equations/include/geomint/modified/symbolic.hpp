@@ -17,6 +17,7 @@
 //
 // Heavy (GiNaC's headers): included by the symbolic translation units and tests only, never by a program.
 #include <chrono>
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +47,9 @@ GiNaC::ex simplify_coefficient(const GiNaC::ex& e);
 // order 2 ran for a minute). Each matrix's inverse is therefore found once, in normal form, kept on this thread
 // (keyed by the matrix itself, a few at a time), and a solve is a product.
 GiNaC::matrix solve_exact(const GiNaC::matrix& A, const GiNaC::matrix& b);
+// The number of nodes of an expression's tree (symbols, numbers, functions, sums, products, powers): the size of a
+// formula, as the benchmarks report it beside the seconds.
+std::size_t expression_size(const GiNaC::ex& e);
 
 template <>
 struct CoefficientTraits<GiNaC::ex> {
@@ -78,11 +82,34 @@ struct FormulaSymbols {
   GiNaC::symbol t{"t"}, h{"h"}, z{"z"};
   std::vector<GiNaC::symbol> q, v;  // positions and velocities q'
   std::vector<GiNaC::symbol> params;
+  std::vector<GiNaC::symbol> u;     // quasi-velocities, where a constraint chart made some (ConstraintChart)
   explicit FormulaSymbols(int n);
   // A parameter's symbol, made once per name; InputError for h, t, z, q<i>, v<i> (the formulas' own names).
   GiNaC::symbol param(const std::string& name);
   GiNaC::lst all() const;  // every symbol, for a parser's table
 };
+
+// The velocities on a linear constraint A(t, q) q' + b(t, q) = 0 (m rows of full rank, n coordinates) in n - m
+// quasi-velocities: q' = S(t, q) u + w(t, q) with A S = 0 and A w = -b, so that a formula in (q, u) lives on the
+// constraint and the constraint holds by construction (Maggi's and Hamel's formulations take the same view).
+// The engine derives the chart from A and b: the kernel's columns e_i - A_D^-1 A_i from the nonzero m x m minor
+// A_D with the fewest terms, made orthogonal (Gram-Schmidt in the coordinates) and each freed of denominators and
+// common factors; w the least-squares solution -A^T (A A^T)^-1 b, orthogonal to them. A column e_i with no offset
+// in its row keeps q'_i as its own quasi-velocity; the others get new symbols u1.. This gives the charts a text
+// book takes for the systems here: the Chaplygin sleigh's q' = u1 (cos q3, sin q3, 0) + u2 (-a sin q3, a cos q3, 1)
+// (its speed along the heading and its turning rate), the knife edge's q' = u1 (cos q3, sin q3, 0) + q'3 e3, the
+// Foucault constraint (13)'s q' = u1 (q1, q2) + s (q2, -q1) (radial motion and the imposed turning).
+// Derived rather than declared: it asks nothing of a system file, and a system that needs another chart has not
+// been met yet. The chart holds on the constraint Phi = 0; the modified solution keeps the modified constraint
+// Phi_h (an O(h) distance away), so the formulas on the chart are the modified vector field's values there, not a
+// reduction of the modified flow. InputError for dependent rows.
+struct ConstraintChart {
+  std::vector<GiNaC::ex> v;  // q'_i(t, q, u), i = 0..n-1
+  std::vector<int> mapped;   // the i whose q'_i is not itself a quasi-velocity (the rows printed as the map back)
+  std::string how;           // one line: which basis was taken
+};
+ConstraintChart constraint_chart(const std::vector<std::vector<GiNaC::ex>>& A, const std::vector<GiNaC::ex>& b,
+                                 FormulaSymbols& sy);
 
 // The name a formula prints for a system parameter: its own (symbolic.cpp's printers escape for Mathematica).
 std::string printed_symbol_name(const std::string& name);

@@ -78,10 +78,17 @@ struct SymbolicResult {
   bool contact = false, holonomic = false, has_lagrangian = false;
   std::vector<std::vector<GiNaC::ex>> F, mu, phi, Fmod;  // [k][component]
   std::vector<GiNaC::ex> Z, L;                           // [k]
+  // on the constraint: the velocities in quasi-velocities (constraint_chart), and the i printed as the map back
+  std::vector<GiNaC::ex> v;
+  std::vector<int> mapped;
+  std::string chart;
 };
 
+// on_constraint: the point's velocities on the system's nonholonomic constraint, q' = S(t, q) u + w (a system
+// without one is computed as it is); `sy` then gains the quasi-velocities' symbols.
 template <class SymSys, class G, int Kmax>
-SymbolicResult symbolic_modified(const SymSys& sys, const FormulaSymbols& sy, int K, const SymbolicBudget& budget) {
+SymbolicResult symbolic_modified(const SymSys& sys, FormulaSymbols& sy, int K, const SymbolicBudget& budget,
+                                 bool on_constraint = false) {
   using GiNaC::ex;
   using Engine = ModifiedEquation<SymSys, G, Kmax, ex>;
   constexpr int n = SymSys::dof, m = SymSys::constraints;
@@ -93,6 +100,22 @@ SymbolicResult symbolic_modified(const SymSys& sys, const FormulaSymbols& sy, in
     q(i) = sy.q[static_cast<std::size_t>(i)];
     v(i) = sy.v[static_cast<std::size_t>(i)];
   }
+  ConstraintChart chart;
+  if constexpr (m > 0 && !Engine::holonomic) {
+    if (on_constraint) {
+      const ex t = sy.t;
+      const Mat<ex, m, n> A = sys.constraint_matrix(t, q);
+      const Vec<ex, m> b = sys.constraint_offset(t, q);
+      std::vector<std::vector<ex>> rows(m, std::vector<ex>(n));
+      std::vector<ex> offset(m);
+      for (int c = 0; c < m; ++c) {
+        offset[static_cast<std::size_t>(c)] = b(c);
+        for (int i = 0; i < n; ++i) rows[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] = A(c, i);
+      }
+      chart = constraint_chart(rows, offset, sy);
+      for (int i = 0; i < n; ++i) v(i) = chart.v[static_cast<std::size_t>(i)];
+    }
+  }
   typename Engine::Result r;
   me.evaluate(sy.t, q, v, sy.z, K, r);
   SymbolicResult out;
@@ -103,6 +126,9 @@ SymbolicResult symbolic_modified(const SymSys& sys, const FormulaSymbols& sy, in
   out.o = Engine::o;
   out.contact = G::contact;
   out.holonomic = Engine::holonomic;
+  out.v = chart.v;
+  out.mapped = chart.mapped;
+  out.chart = chart.how;
   for (int k = 0; k <= r.K; ++k) {
     std::vector<ex> f, mu;
     for (int i = 0; i < n; ++i) f.push_back(r.F[static_cast<std::size_t>(k)](i));
@@ -133,12 +159,14 @@ SymbolicResult symbolic_modified(const SymSys& sys, const FormulaSymbols& sy, in
 ModifiedFormulas formula_rows(const SymbolicResult& r, const FormulaSymbols& sy);
 
 template <class Sys>
-ModifiedFormulas symbolic_formulas(const ParamValues& pv, const std::string& scheme, int K, double budget_seconds) {
+ModifiedFormulas symbolic_formulas(const ParamValues& pv, const std::string& scheme, int K, double budget_seconds,
+                                   bool on_constraint = false) {
   if constexpr (!SymbolicOf<Sys>::available) {
     (void)pv;
     (void)scheme;
     (void)K;
     (void)budget_seconds;
+    (void)on_constraint;
     throw InputError(std::string("system '") + Sys::name + "' has no symbolic parameter type yet (formulas need its header templated on it)");
   } else {
     using SymSys = typename SymbolicOf<Sys>::type;
@@ -150,7 +178,7 @@ ModifiedFormulas symbolic_formulas(const ParamValues& pv, const std::string& sch
       const SymbolicBudget budget{budget_seconds};
       FormulaSymbols sy(Sys::dof);
       const SymSys sys = symbolic_system<SymSys>(sy);
-      const SymbolicResult r = symbolic_modified<SymSys, decltype(g), registry_max_order>(sys, sy, K, budget);
+      const SymbolicResult r = symbolic_modified<SymSys, decltype(g), registry_max_order>(sys, sy, K, budget, on_constraint);
       ModifiedFormulas f = formula_rows(r, sy);
       f.K_asked = K;
       f.seconds = budget.elapsed();
