@@ -122,12 +122,15 @@ int main(int argc, char** argv) {
 
     // The summary (summarise_work, as the long-horizon studies'): per combination, each method's cheapest CPU time
     // to reach the target max error, the best geometric scheme's over the best adaptive method's, and each method's
-    // fitted slope of log(error) against log(time). Written with the timings' caveat: never the same bits twice.
-    const std::vector<WorkSummaryRow> summary = summarise_work(pts, {{"err_max", "max error in q", target}});
+    // fitted slope of log(error) against log(time) above the reference's floor (fewer than three points there: no
+    // slope). Written with the timings' caveat: never the same bits twice.
+    const std::vector<WorkSummaryRow> summary = summarise_work(pts, {{"err_max", "max error in q", target, study.floor}});
     std::vector<std::string> scols{"kind", "measure", "target"};
     scols.insert(scols.end(), swept.begin(), swept.end());
     scols.insert(scols.end(), {"method", "value"});
-    TsvWriter sum(dir / (stem + "_summary.tsv"), "work_precision", params, scols);
+    Params sparams = params;
+    sparams.emplace_back("slope_floor", format_number(study.floor) + " (errors at or below it are the reference's: no slope is fitted through them)");
+    TsvWriter sum(dir / (stem + "_summary.tsv"), "work_precision", sparams, scols);
     for (const auto& r : summary) {
       if (r.kind == "crossover") continue;  // one horizon: no crossover
       std::vector<std::string> row{r.kind, r.measure, format_cell(r.target)};

@@ -105,7 +105,7 @@ std::vector<WorkSummaryRow> summarise_work(const std::vector<WorkPoint>& points,
               t.push_back(p.time.median);
               e.push_back(p.errors[k]);
             }
-          rows.push_back({"slope_vs_cpu_time", measures[k].column, measures[k].target, g, H, m, fit_order(t, e, 1e-15).slope});
+          rows.push_back({"slope_vs_cpu_time", measures[k].column, measures[k].target, g, H, m, fit_order(t, e, measures[k].floor).slope});
         }
   return rows;
 }

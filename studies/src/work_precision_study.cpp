@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
@@ -259,6 +260,8 @@ WorkPrecisionStudy work_precision_study(const SystemInfo& sys, const std::vector
                                         const WorkPrecisionOptions& opt) {
   check_work_precision(sys, combos, opt);
   WorkPrecisionStudy study;
+  const bool exact = opt.reference == ReferenceKind::exact || (opt.reference == ReferenceKind::automatic && sys.has_exact);
+  study.floor = fit_band(exact, opt.reference_tol, std::numeric_limits<double>::infinity()).floor;
   for (std::size_t c = 0; c < combos.size(); ++c) {
     const ParamValues& pv = combos[c];
     const double T = sys.horizon(pv);

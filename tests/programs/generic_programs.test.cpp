@@ -9,6 +9,7 @@
 
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
+#include "geomint/study.hpp"
 #include "helpers.hpp"
 
 using namespace geomint;
@@ -213,4 +214,44 @@ TEST_CASE("work_precision's summary gives each method's CPU time to the user's t
   // somewhere both families reach it (a ratio is computed, not only refused)
   CHECK(reached_at[0] > reached_at[1]);
   CHECK(ratios > 0);
+}
+
+// The summary's slopes keep the harness's fitting rule: no point at or below the reference's floor (the pendulum's
+// reference is Odeint at 1e-13, so its floor is 100 times that), fewer than three above it is no slope. rk4's finest
+// runs go below the floor: its slope read back from the error and timing tables, fitted over the points above it,
+// is the summary's, and a fit through every point would differ.
+TEST_CASE("work_precision's slopes against CPU time leave out the reference's floor", "[programs][generic][work_precision]") {
+  const auto dir = fresh_dir("work-precision-floor");
+  const auto r = run_program("work_precision", "--system pendulum --T 5 --h-max 0.1 --h-min 4e-4 --schemes la-midpoint "
+                                               "--baselines odeint-rk4 --reps 1 --out " + dir.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto d = plots::read_tsv(dir / "pendulum_work_precision.tsv");
+  const auto tt = plots::read_tsv(dir / "pendulum_work_precision_timings.tsv");
+  const auto s = plots::read_tsv(dir / "pendulum_work_precision_summary.tsv");
+  const std::string header = geomint::testing::read_bytes(dir / "pendulum_work_precision_summary.tsv");
+  CHECK(header.find("# slope_floor: 1e-11 ") != std::string::npos);
+  int below = 0, slopes = 0;
+  for (const std::string method : {"la-midpoint", "odeint-rk4"}) {
+    std::vector<double> t, e;
+    for (std::size_t k = 0; k < d.rows.size(); ++k)
+      if (d.text(k, "method") == method) {
+        t.push_back(tt.number(k, "seconds_median"));
+        e.push_back(d.number(k, "err_max"));
+        below += e.back() <= 1e-11;
+      }
+    const auto above = fit_order(t, e, 1e-11), all = fit_order(t, e, 0.0);
+    for (std::size_t i = 0; i < s.rows.size(); ++i)
+      if (s.text(i, "kind") == "slope_vs_cpu_time" && s.text(i, "method") == method) {
+        INFO(method << ": summary " << s.number(i, "value") << ", above the floor " << above.slope << " (" << above.points
+                    << " points), all " << all.slope);
+        REQUIRE(above.points >= 3);
+        CHECK(s.number(i, "value") == Approx(above.slope).epsilon(1e-9));
+        if (above.points < all.points) CHECK(std::abs(all.slope - above.slope) > 0.05);
+        ++slopes;
+      }
+  }
+  CHECK(slopes == 2);
+  CHECK(below >= 2);  // rk4's finest runs are at the floor: the rule is exercised
+  std::filesystem::remove_all(dir);
 }

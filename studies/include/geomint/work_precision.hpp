@@ -90,16 +90,19 @@ WorkPoint measure_point(WorkPoint p, std::size_t n_errors, Run&& run, int reps, 
       [&] { return time_per_call([&] { do_not_optimize(run(false).steps); }, reps); }, reps, context);
 }
 
-// A measure of a study and the error the summary asks each method to reach.
+// A measure of a study, the error the summary asks each method to reach, and the floor below which an error is the
+// reference's (fit_band, study.hpp): the slope against CPU time is fitted above it only.
 struct WorkMeasure {
   std::string column, label;
   double target;
+  double floor = 1e-15;
 };
 
 // One line of a summary: kind is "seconds_to_target" (method's cheapest time to reach the target; NaN: never),
 // "geometric_over_adaptive" (the ratio of the best of each family), "crossover" (the shortest horizon from which
 // on, at it and every longer one, the best geometric scheme is cheaper than the best adaptive method; NaN: none)
-// or "slope_vs_cpu_time" (the fitted d log(error) / d log(time) over the method's points above 1e-15).
+// or "slope_vs_cpu_time" (the fitted d log(error) / d log(time) over the method's points above the measure's floor;
+// NaN with fewer than three there).
 struct WorkSummaryRow {
   std::string kind, measure;
   double target, group, horizon;  // horizon NaN for a crossover
@@ -163,6 +166,7 @@ const std::vector<std::string>& work_precision_baselines();
 
 struct WorkPrecisionStudy {
   std::string reference;         // what the errors are measured against (Reference::kind)
+  double floor = 1e-13;          // the errors it resolves: above round-off (a closed form), or 100 times its tolerance
   // errors = {the max error} (and the relative error with relative_window); group = the index of the combination
   std::vector<WorkPoint> points;
 };
