@@ -259,7 +259,8 @@ ConstraintChart constraint_chart(const std::vector<std::vector<ex>>& A, const st
   chart.v = w;
   for (std::size_t c = 0; c < cols.size(); ++c) {
     const int i = I[c];
-    // a column e_i with no offset in its row: q'_i is its own quasi-velocity (no other column has an entry there)
+    // a column e_i with no offset in its row: q'_i is its own quasi-velocity (the other columns are orthogonal to
+    // e_i: none has an entry in row i)
     bool unit = w[U(i)].is_zero();
     for (int k = 0; k < n; ++k) unit = unit && (cols[c][U(k)] - (k == i ? 1 : 0)).is_zero();
     ex u = sy.v[U(i)];
