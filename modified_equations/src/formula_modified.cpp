@@ -1,12 +1,10 @@
 #include "geomint/modified/formula_modified.hpp"
 
 #include <algorithm>
-#include <mutex>
+#include <memory>
 #include <vector>
 
 #include "geomint/error.hpp"
-#include "geomint/formula/entry_slots.hpp"
-#include "geomint/formula/formula_call.hpp"
 #include "geomint/formula/formula_registry.hpp"
 
 namespace geomint::modified {
@@ -16,7 +14,8 @@ namespace geomint::modified {
 #define GEOMINT_MODIFIED_0(N, M, H) nullptr
 #define GEOMINT_MODIFIED_1(N, M, H) make_formula_modified_##N##_##M##_##H
 #define GEOMINT_DECLARE_0(N, M, H)
-#define GEOMINT_DECLARE_1(N, M, H) ModifiedSystem make_formula_modified_##N##_##M##_##H();
+#define GEOMINT_DECLARE_1(N, M, H) \
+  ModifiedSystem make_formula_modified_##N##_##M##_##H(std::shared_ptr<const formula::FormulaModel>);
 #define GEOMINT_FORMULA_SHAPE(N, M, H, modified) GEOMINT_DECLARE_##modified(N, M, H)
 #include "formula/shapes_compiled.def"
 #undef GEOMINT_FORMULA_SHAPE
@@ -26,7 +25,7 @@ namespace {
 struct Shape {
   int n, m;
   bool holonomic, modified;
-  ModifiedSystem (*make)();
+  ModifiedSystem (*make)(std::shared_ptr<const formula::FormulaModel>);
 };
 
 const std::vector<Shape>& shapes() {
@@ -36,16 +35,6 @@ const std::vector<Shape>& shapes() {
 #undef GEOMINT_FORMULA_SHAPE
   };
   return all;
-}
-
-const ModifiedSystem& shape_record(std::size_t index, const std::shared_ptr<const formula::FormulaModel>& model) {
-  static std::vector<std::once_flag> once(shapes().size());
-  static std::vector<ModifiedSystem> built(shapes().size());
-  std::call_once(once[index], [&] {
-    const formula::FormulaCall call(model);
-    built[index] = shapes()[index].make();
-  });
-  return built[index];
 }
 
 }  // namespace
@@ -65,16 +54,13 @@ std::shared_ptr<const ModifiedSystem> formula_modified_system(std::shared_ptr<co
           "system '" + model->name + "' has n = " + std::to_string(model->n) + ", m = " + std::to_string(model->m) +
               (model->holonomic ? " (holonomic)" : "") + ": this build compiles the modified equations of formula systems of the shapes " +
               marked + " (core/src/formula/shapes.def marks a shape for them)");
-  const ModifiedSystem& shape = shape_record(index, model);
-  ModifiedSystem entry = shape;
-  entry.name = model->name;
+  ModifiedSystem entry = shapes()[index].make(model);
   entry.has_herglotz = model->has_herglotz();
   if (!model->has_herglotz())  // the core's contact schemes are the ones named contact*
     entry.schemes.erase(std::remove_if(entry.schemes.begin(), entry.schemes.end(),
                                        [](const std::string& s) { return s.rfind("contact", 0) == 0; }),
                         entry.schemes.end());
-  return formula::EntrySlots<ModifiedSystem>::acquire<&ModifiedSystem::at, &ModifiedSystem::agreement, &ModifiedSystem::shoot,
-                                                      &ModifiedSystem::formulas>(model, &shape, std::move(entry));
+  return std::make_shared<const ModifiedSystem>(std::move(entry));
 }
 
 }  // namespace geomint::modified

@@ -1,12 +1,13 @@
 // Systems defined by formulas as registry entries (formula_registry.hpp, formula_modified.hpp): the entry of a
 // formula file runs what its header's entry runs, bit for bit where the typed formula system does
 // (tests/formula/formula_systems.test.cpp: pendulum, knife edge), through the same registry calls the programs and the
-// Python module make; its modified equations are the header's; the slots are given back.
+// Python module make; its modified equations are the header's; any number of entries live and run at once.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <thread>
 #include <vector>
 
 #include "geomint/error.hpp"
@@ -134,25 +135,42 @@ TEST_CASE("a shape the build does not compile is refused with one line naming th
   CHECK_THROWS_WITH(modified::formula_modified_system(model), Catch::Contains("shapes.def"));
 }
 
-TEST_CASE("formula entries give their slots back", "[formula][registry]") {
-  const auto model = formula::load_system_file(system_file("pendulum"));
+// An entry holds its own model: any number live at once, and each runs its own formulas whatever other entries run
+// beside it, on this thread or others (the same bits as alone).
+TEST_CASE("formula entries hold their models: a hundred at once, run from several threads", "[formula][registry]") {
+  // two models of one shape (n = 1), told apart by their horizons and their motions
+  const auto pendulum = formula::load_system_file(system_file("pendulum"));
+  const auto quartic = formula::compile_model([] {
+    formula::SystemDescription d;
+    d.name = "quartic";
+    d.coordinates = 1;
+    d.lagrangian = formula::formula_text("v1^2/2 - q1^4/4", "L");
+    d.parameters.push_back({"T", formula::formula_text("3", "parameter T"), "horizon"});
+    d.initial_q.push_back(formula::formula_text("1", "q1"));
+    d.initial_v.push_back(formula::formula_text("0", "v1"));
+    return d;
+  }());
   std::vector<std::shared_ptr<const SystemInfo>> alive;
-  // whatever other entries are alive, the slots fill up and the next one is refused
-  for (std::size_t i = 0; i <= formula::max_formula_entries; ++i) {
-    try {
-      alive.push_back(formula::formula_system_info(model));
-    } catch (const InputError& e) {
-      CHECK_THAT(e.what(), Catch::Contains("alive at once"));
-      break;
-    }
+  for (int i = 0; i < 100; ++i) alive.push_back(formula::formula_system_info(i % 2 == 0 ? pendulum : quartic));
+  const ParamValues pv{{"T", 2}};
+  const Run alone_p = formula::formula_system_info(pendulum)->run(pv, "la-midpoint", 0.05, Path::generic, 1);
+  const Run alone_q = formula::formula_system_info(quartic)->run(pv, "la-midpoint", 0.05, Path::generic, 1);
+  REQUIRE(alone_p.q != alone_q.q);
+  std::vector<Run> runs(alive.size());
+  std::vector<std::thread> threads;
+  for (std::size_t w = 0; w < 4; ++w)
+    threads.emplace_back([&, w] {
+      for (std::size_t i = w; i < alive.size(); i += 4) runs[i] = alive[i]->run(pv, "la-midpoint", 0.05, Path::generic, 1);
+    });
+  for (auto& t : threads) t.join();
+  std::size_t same = 0;
+  for (std::size_t i = 0; i < alive.size(); ++i) {
+    INFO("entry " << i);
+    CHECK(alive[i]->name == (i % 2 == 0 ? "pendulum" : "quartic"));
+    CHECK(alive[i]->horizon({}) == (i % 2 == 0 ? find_system("pendulum").horizon({}) : 3.0));
+    same += runs[i].q == (i % 2 == 0 ? alone_p.q : alone_q.q) ? 1 : 0;
   }
-  CHECK(alive.size() <= formula::max_formula_entries);
-  CHECK_THROWS_AS(formula::formula_system_info(model), InputError);
-  // each slot runs its own model: the last entry still runs the pendulum
-  const double T0 = alive.back()->horizon({});
-  alive.pop_back();
-  const auto again = formula::formula_system_info(model);
-  CHECK(again->horizon({}) == T0);
+  CHECK(same == alive.size());
 }
 
 TEST_CASE("a formula file's modified equations are its header's, through the registry", "[formula][registry][modified]") {

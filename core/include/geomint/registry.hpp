@@ -126,46 +126,52 @@ struct SystemInfo {
   Expectations expectations;  // what its tests expect (declared with the system, or the defaults)
   std::vector<MeasureInfo> measures;  // what a run is measured by beyond the error in q (declared with the system)
 
-  // Operations on this system (function pointers into its generated translation unit).
-  void (*validate)(const ParamValues&) = nullptr;  // InputError naming the first bad value
-  double (*horizon)(const ParamValues&) = nullptr; // T
-  double (*initial_time)(const ParamValues&) = nullptr;  // t0: every run starts there, t_j = t0 + j h
+  // Operations on this system: closures over its compiled code (its generated translation unit, or the shape of a
+  // system defined by formulas) and, where the system is data, over that data (a formula system's model).
+  std::function<void(const ParamValues&)> validate;  // InputError naming the first bad value
+  std::function<double(const ParamValues&)> horizon;  // T
+  std::function<double(const ParamValues&)> initial_time;  // t0: every run starts there, t_j = t0 + j h
   // N = T/h steps of `scheme`, keeping every `every`-th step.
-  Run (*run)(const ParamValues&, const std::string& scheme, double h, Path, long every) = nullptr;
+  std::function<Run(const ParamValues&, const std::string& scheme, double h, Path, long every)> run;
   // max_j |q_j - q_ref(t_j)| (max norm over components) without storing the run.
-  double (*max_error)(const ParamValues&, const std::string& scheme, double h, Path, const Reference&) = nullptr;
+  std::function<double(const ParamValues&, const std::string& scheme, double h, Path, const Reference&)> max_error;
   // The error in q and the system's measures of one run, in one pass: {max_j |q(t_j) - q_ref(t_j)| in `norm`,
   // then one value per entry of `measures`}. With measures, `ref` needs a grid of h/2 (a measure may compare a
   // chord quantity at t_{j+1/2} with the reference's state there) and its velocities.
-  std::vector<double> (*measure_run)(const ParamValues&, const std::string& scheme, double h, Path, const Reference&,
-                                     ErrorNorm norm) = nullptr;
+  std::function<std::vector<double>(const ParamValues&, const std::string& scheme, double h, Path, const Reference&,
+                                                       ErrorNorm norm)> measure_run;
   // max_j |(shift + q_j)/(shift + q_ref(t_j)) - 1| (the paper's regularized relative error, component 0).
-  double (*max_relative_error)(const ParamValues&, const std::string& scheme, double h, Path, const Reference&,
-                               double shift) = nullptr;
+  std::function<double(const ParamValues&, const std::string& scheme, double h, Path, const Reference&,
+                                       double shift)> max_relative_error;
   // The reference on t_j = t0 + j h, j = 0..N: the closed form, or Boost.Odeint (dopri5, dense output, tolerance
   // tol) on the equations derived from L, F and Phi by automatic differentiation (odeint) or on the system's
   // hand-written rhs (odeint_rhs).
-  Reference (*reference)(const ParamValues&, double h, long N, ReferenceKind, double tol) = nullptr;
+  std::function<Reference(const ParamValues&, double h, long N, ReferenceKind, double tol)> reference;
   // For work–precision: the CPU time of one run of N = T/h steps (nothing stored; warm-up, repeats: median, min, max),
   // and the continuous equations as a first-order ODE x' = f(t, x), x = (q, q') (the AD-derived acceleration),
   // with its consistent initial state, for Odeint baselines.
-  TimingStats (*time_run)(const ParamValues&, const std::string& scheme, double h, Path, int reps) = nullptr;
-  std::function<void(double t, const double* x, double* dx)> (*ode)(const ParamValues&) = nullptr;
+  std::function<TimingStats(const ParamValues&, const std::string& scheme, double h, Path, int reps)> time_run;
+  using Rhs = std::function<void(double t, const double* x, double* dx)>;
+  std::function<Rhs(const ParamValues&)> ode;
   // The same with the system's hand-written acceleration (InputError without one): the equations an Odeint or GSL
   // baseline integrates when it is to cost what a hand-written right-hand side costs (AD's is several times dearer).
-  std::function<void(double t, const double* x, double* dx)> (*ode_rhs)(const ParamValues&) = nullptr;
+  std::function<Rhs(const ParamValues&)> ode_rhs;
   // The closed-form positions at arbitrary times (rows of n; InputError without a closed form): an adaptive
   // method's error at the steps it chose.
-  std::vector<double> (*exact_positions)(const ParamValues&, const std::vector<double>& times) = nullptr;
+  std::function<std::vector<double>(const ParamValues&, const std::vector<double>& times)> exact_positions;
   // (q0, v0): the start of `ode` (hand_written false), or of `ode_rhs` (true: the system's own projection onto its
   // constraints where it writes one, as the hand-written equations do; the two agree to round-off)
-  std::vector<double> (*ode_initial_state)(const ParamValues&, bool hand_written) = nullptr;
+  std::function<std::vector<double>(const ParamValues&, bool hand_written)> ode_initial_state;
+  // What a study may measure along a run besides q, at a state (t, q, q'): out[0] = the energy E(t, q, q') (the
+  // system's, else q'.L_q' - L), out[1 + i] = the momentum p_i = dL/dq'_i (by AD): n + 1 values.
+  using Observables = std::function<void(double t, const double* q, const double* v, double* out)>;
+  std::function<Observables(const ParamValues&)> observables;
   // Linear unconstrained systems (stability maps): the linear part of the one-step map of `scheme` on (q, p)
   // (2n x 2n, row-major; a forcing term is removed by differencing), and of the continuous flow's generator on
   // (q, q'). On the fast path a closed form gives its matrix in long double (the system's closed_form_matrix),
   // the generic step in double. InputError for other systems.
-  std::vector<long double> (*one_step_matrix)(const ParamValues&, const std::string& scheme, double h, Path) = nullptr;
-  std::vector<double> (*continuous_matrix)(const ParamValues&) = nullptr;
+  std::function<std::vector<long double>(const ParamValues&, const std::string& scheme, double h, Path)> one_step_matrix;
+  std::function<std::vector<double>(const ParamValues&)> continuous_matrix;
 
   // The scheme or composition named `name` (or one of its aliases); InputError naming the known ones.
   const SchemeInfo& scheme(const std::string& name) const;

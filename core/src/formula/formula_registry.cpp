@@ -1,43 +1,20 @@
 #include "geomint/formula/formula_registry.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <vector>
 
 #include "geomint/error.hpp"
-#include "geomint/formula/entry_slots.hpp"
-#include "geomint/formula/formula_call.hpp"
 #include "geomint/formula/formula_system.hpp"
+#include "geomint/formula/time_transform.hpp"
 
 namespace geomint::formula {
 
-namespace {
-thread_local std::shared_ptr<const FormulaModel> call_model;
-thread_local std::string call_name, call_description;
-
-void install(const std::shared_ptr<const FormulaModel>& m) {
-  call_model = m;
-  call_name = m ? m->name : std::string();
-  call_description = m ? m->description : std::string();
-}
-}  // namespace
-
-FormulaCall::FormulaCall(std::shared_ptr<const FormulaModel> model) : previous_(call_model) {
-  require(model != nullptr, "formula system without a model");
-  install(model);
-}
-FormulaCall::~FormulaCall() { install(previous_); }
-
-const std::shared_ptr<const FormulaModel>& FormulaCall::model() {
-  require(call_model != nullptr, "a formula system's operation was called outside its registry entry");
-  return call_model;
-}
-const std::string& FormulaCall::name() { return call_name; }
-const std::string& FormulaCall::description() { return call_description; }
-
 // One declaration per compiled line of shapes.def (the build writes them to shapes_compiled.def); each is defined in the shape's generated translation unit.
-#define GEOMINT_FORMULA_SHAPE(N, M, H, modified) SystemInfo make_formula_shape_info_##N##_##M##_##H();
+#define GEOMINT_FORMULA_SHAPE(N, M, H, modified) \
+  SystemInfo make_formula_shape_info_##N##_##M##_##H(std::shared_ptr<const FormulaModel> model);
 #include "formula/shapes_compiled.def"
 #undef GEOMINT_FORMULA_SHAPE
 
@@ -46,7 +23,7 @@ namespace {
 struct Shape {
   int n, m;
   bool holonomic;
-  SystemInfo (*make)();
+  SystemInfo (*make)(std::shared_ptr<const FormulaModel>);
 };
 
 const std::vector<Shape>& shapes() {
@@ -56,17 +33,6 @@ const std::vector<Shape>& shapes() {
 #undef GEOMINT_FORMULA_SHAPE
   };
   return all;
-}
-
-// The shape's operations, built once (the builder reads the defaults of a model of that shape: the first one).
-const SystemInfo& shape_info(std::size_t index, const std::shared_ptr<const FormulaModel>& model) {
-  static std::vector<std::once_flag> once(shapes().size());
-  static std::vector<SystemInfo> built(shapes().size());
-  std::call_once(once[index], [&] {
-    const FormulaCall call(model);
-    built[index] = shapes()[index].make();
-  });
-  return built[index];
 }
 
 }  // namespace
@@ -133,20 +99,10 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
           "system '" + model->name + "' has n = " + std::to_string(model->n) + ", m = " + std::to_string(model->m) +
               (model->holonomic ? " (holonomic)" : "") + ": this build compiles formula systems of the shapes " +
               compiled_formula_shapes() + " (one line in core/src/formula/shapes.def adds a shape)");
-  const SystemInfo& shape = shape_info(index, model);
-  SystemInfo entry = shape;
-  // The shape's entry was built once, with the first model of its shape installed: what it read from that model's
-  // parameters is this model's to give. Expectations are the defaults of generic::expectations_of (a formula
-  // system declares none): the horizon cut to 20, at this model's horizon.
-  entry.expectations = Expectations{};
-  if (const int iT = model->parameter_index("T"); iT >= 0 && model->parameters[static_cast<std::size_t>(iT)].value > 20)
-    entry.expectations.params = {{"T", 20}};
-  entry.name = model->name;
-  entry.description = model->description;
+  SystemInfo entry = shapes()[index].make(model);
+  // The shape's code is compiled for every model of its shape: what it cannot know of this model is set here.
   entry.has_herglotz = model->has_herglotz();
   entry.has_exact = model->has_exact();
-  entry.params.clear();
-  for (const auto& p : model->parameters) entry.params.push_back({p.name, p.value, p.doc});
   if (!model->has_herglotz())  // the shape compiles them; this model cannot run them
     entry.schemes.erase(std::remove_if(entry.schemes.begin(), entry.schemes.end(),
                                        [](const SchemeInfo& s) { return s.principle.rfind("discrete Herglotz", 0) == 0; }),
@@ -158,12 +114,47 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
                                             return true;
                                           }),
                            entry.compositions.end());
-  return EntrySlots<SystemInfo>::acquire<&SystemInfo::validate, &SystemInfo::horizon, &SystemInfo::initial_time, &SystemInfo::run, &SystemInfo::max_error,
-                                         &SystemInfo::max_relative_error, &SystemInfo::reference,
-                                         &SystemInfo::time_run, &SystemInfo::ode, &SystemInfo::ode_initial_state,
-                                         &SystemInfo::measure_run, &SystemInfo::ode_rhs, &SystemInfo::exact_positions,
-                                         &SystemInfo::one_step_matrix, &SystemInfo::continuous_matrix>(model, &shape,
-                                                                                                        std::move(entry));
+  // A scheme is looked up in the shape's code by type, which has no name to give: the entry refuses an unknown one by
+  // the model's name first.
+  auto names = std::make_shared<SystemInfo>();
+  names->name = entry.name;
+  names->schemes = entry.schemes;
+  names->compositions = entry.compositions;
+  entry.run = [op = entry.run, names, model](const ParamValues& pv, const std::string& scheme, double h, Path path, long every) {
+    names->scheme(scheme);
+    Run run = op(pv, scheme, h, path, every);
+    // A time-transformed model's velocities (and energies) from its momenta, by Newton from the previous row's
+    // (time_transform.hpp): the core's inversion starts at Q' = p and can land on another root.
+    if (model->time_transformed) time_transform_velocities(*model, parameter_table(*model, pv), run);
+    return run;
+  };
+  entry.max_error = [op = entry.max_error, names](const ParamValues& pv, const std::string& scheme, double h, Path path,
+                                                  const Reference& ref) {
+    names->scheme(scheme);
+    return op(pv, scheme, h, path, ref);
+  };
+  entry.measure_run = [op = entry.measure_run, names](const ParamValues& pv, const std::string& scheme, double h, Path path,
+                                                      const Reference& ref, ErrorNorm norm) {
+    names->scheme(scheme);
+    return op(pv, scheme, h, path, ref, norm);
+  };
+  entry.max_relative_error = [op = entry.max_relative_error, names](const ParamValues& pv, const std::string& scheme,
+                                                                    double h, Path path, const Reference& ref,
+                                                                    double shift) {
+    names->scheme(scheme);
+    return op(pv, scheme, h, path, ref, shift);
+  };
+  entry.time_run = [op = entry.time_run, names](const ParamValues& pv, const std::string& scheme, double h, Path path,
+                                                int reps) {
+    names->scheme(scheme);
+    return op(pv, scheme, h, path, reps);
+  };
+  entry.one_step_matrix = [op = entry.one_step_matrix, names](const ParamValues& pv, const std::string& scheme, double h,
+                                                              Path path) {
+    names->scheme(scheme);
+    return op(pv, scheme, h, path);
+  };
+  return std::make_shared<const SystemInfo>(std::move(entry));
 }
 
 }  // namespace geomint::formula

@@ -3,12 +3,10 @@
 // takes a registered system by its SystemInfo takes a formula system read at run time too (--system-file, the
 // Python module), with no C++ written and nothing rebuilt.
 //
-// The registry's operations are plain function pointers, compiled from a system's type; a formula system's type is
-// its shape (n, m, holonomic), and its formulas are data. So the schemes are compiled once per shape listed in
-// core/src/formula/shapes.def (one generated translation unit each, like a header system's), and an entry's
-// operations are small trampolines that run the shape's operation with the entry's model as the call's model
-// (registered_system.hpp). A shape not listed is an InputError naming that file: adding one is one line there.
-#include <cstddef>
+// A formula system's type is its shape (n, m, holonomic), and its formulas are data. So the schemes are compiled once
+// per shape listed in core/src/formula/shapes.def (one generated translation unit each, like a header system's), and
+// an entry's operations are that code's closures over a system holding the entry's model: any number of models live
+// at once, each in its own entry. A shape not listed is an InputError naming that file: adding one is one line there.
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,12 +16,9 @@
 
 namespace geomint::formula {
 
-// How many formula entries may be alive at once (each holds one set of trampolines).
-inline constexpr std::size_t max_formula_entries = 32;
-
-// The registry entry of `model`; the entry lives as long as the returned pointer (or a copy of it). Its schemes
-// are the core's, without the contact schemes when the model has no Herglotz Lagrangian; its parameters are the
-// model's, its references Boost.Odeint on the equations derived from the formulas.
+// The registry entry of `model` (it holds the model). Its schemes are the core's, without the contact schemes when the
+// model has no Herglotz Lagrangian; its parameters are the model's, its references Boost.Odeint on the equations
+// derived from the formulas.
 std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const FormulaModel> model);
 
 // The Herglotz Lagrangian checked against the force at these parameter values (FormulaSystemT::warnings): empty,

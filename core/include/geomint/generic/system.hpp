@@ -39,6 +39,7 @@
 //                                            (checked at run time the same way). `linear` implies it.
 //   bool linear_dynamics_found() const;      the same, found at run time (a system defined by formulas examines
 //                                            its own: formula/model.cpp)
+#include <string>
 #include <type_traits>
 #include <utility>
 
@@ -94,6 +95,40 @@ GEOMINT_DETECT(has_exact_query, std::declval<const Sys&>().has_exact_solution())
 GEOMINT_DETECT(has_initial_time, std::declval<const Sys&>().template initial_time<double>())
 GEOMINT_DETECT(has_initial_action, std::declval<const Sys&>().template initial_action<double>())
 #undef GEOMINT_DETECT
+
+// A system's name for entries and messages. A header system's is static (Sys::name); a system defined by formulas
+// is one type for many models, so its name is its instance's (sys.name()).
+template <class Sys>
+inline constexpr bool has_static_name_v = !std::is_member_function_pointer_v<decltype(&Sys::name)>;
+template <class Sys>
+std::string system_name(const Sys& sys) {
+  if constexpr (has_static_name_v<Sys>) {
+    (void)sys;
+    return Sys::name;
+  } else {
+    return sys.name();
+  }
+}
+template <class Sys>
+std::string system_description(const Sys& sys) {
+  if constexpr (has_static_name_v<Sys>) {
+    (void)sys;
+    return Sys::description;
+  } else {
+    return sys.description();
+  }
+}
+// Where code knows the type only (a scheme looked up by name): " of system 'pendulum'" (or "for", ...), or "" for a
+// type whose name is its instance's (a formula system's entry names it: formula_registry.cpp).
+template <class Sys>
+std::string of_system(const char* preposition = "of") {
+  if constexpr (has_static_name_v<Sys>) {
+    return std::string(" ") + preposition + " system '" + Sys::name + "'";
+  } else {
+    (void)preposition;
+    return "";
+  }
+}
 
 template <class Sys>
 constexpr bool is_linear() {

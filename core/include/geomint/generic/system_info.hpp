@@ -1,5 +1,5 @@
 #pragma once
-// make_system_info<Sys>(): everything the run-time registry needs about one system, instantiated once per
+// make_system_info<Sys>(prototype): everything the run-time registry needs about one system, instantiated once per
 // system in its own generated translation unit (see core/CMakeLists.txt and core/src/systems.def). Heavy:
 // include it only there and in tests that need the typed pieces.
 #include <algorithm>
@@ -26,9 +26,9 @@ namespace geomint::generic {
 // ---------------------------------------------------------------------------------------------------
 // Parameters by name
 
+// `prototype` with `values` set by name (a system defined by formulas: a prototype holding its model).
 template <class Sys>
-Sys make_system(const ParamValues& values) {
-  Sys sys;
+Sys make_system(Sys sys, const ParamValues& values) {
   for (const auto& [name, value] : values) {
     bool found = false;
     sys.visit([&, &name = name, value = value](const char* field, double& x, const char*) {
@@ -40,10 +40,14 @@ Sys make_system(const ParamValues& values) {
     if (!found) {
       std::string known;
       sys.visit([&](const char* field, double&, const char*) { known += (known.empty() ? "" : ", ") + std::string(field); });
-      throw InputError(std::string("system '") + Sys::name + "' has no parameter '" + name + "' (known: " + known + ")");
+      throw InputError("system '" + system_name(sys) + "' has no parameter '" + name + "' (known: " + known + ")");
     }
   }
   return sys;
+}
+template <class Sys>
+Sys make_system(const ParamValues& values) {
+  return make_system(Sys{}, values);
 }
 
 template <class Sys>
@@ -76,8 +80,8 @@ template <class Sys, class X>
 void require_path(Path path) {
   if constexpr (is_extra_scheme_v<X>) {
     if (path == Path::generic)
-      throw InputError(std::string("scheme '") + X::name + "' is declared by system '" + Sys::name +
-                       "' as a closed form only: it has no generic step (use --path fast)");
+      throw InputError(std::string("scheme '") + X::name + "' is declared" + of_system<Sys>("by") +
+                       " as a closed form only: it has no generic step (use --path fast)");
   } else {
     (void)path;
   }
@@ -134,8 +138,8 @@ void drive(const Sys& sys, double h, long N, Path path, Observer&& observe_step)
 }
 
 template <class Sys, class X>
-std::string context(const Sys&, double h, Path path) {
-  return std::string("system ") + Sys::name + ", scheme " + scheme_name_of<X>() + " (" +
+std::string context(const Sys& sys, double h, Path path) {
+  return "system " + system_name(sys) + ", scheme " + scheme_name_of<X>() + " (" +
          to_string(effective_path<Sys, X>(path)) + "), h = " + show(h);
 }
 
@@ -263,7 +267,7 @@ decltype(auto) visit_composable(const std::string& base, F&& f) {
   if constexpr (I == std::tuple_size_v<AllSchemesTuple>) {
     std::string known;
     for (const auto& s : composable_schemes<Sys>()) known += (known.empty() ? "" : ", ") + s;
-    throw InputError("scheme '" + base + "' of system '" + Sys::name + "' cannot be composed (symmetric schemes: " +
+    throw InputError("scheme '" + base + "'" + of_system<Sys>() + " cannot be composed (symmetric schemes: " +
                      known + ")");
     return f(LaTrapezoid{});  // not reached; gives the return type
   } else {
@@ -318,8 +322,8 @@ void drive_composition(const Sys& sys, const CompositionFamily& family, double h
 }
 
 template <class Sys>
-std::string composition_context(const std::string& name, double h) {
-  return std::string("system ") + Sys::name + ", composition " + name + ", h = " + show(h);
+std::string composition_context(const Sys& sys, const std::string& name, double h) {
+  return "system " + system_name(sys) + ", composition " + name + ", h = " + show(h);
 }
 
 template <class Sys, class G>
@@ -337,7 +341,7 @@ Run run_composition(const Sys& sys, const CompositionFamily& family, const std::
       append_step(run, sys, G::contact, s, phid, updates);
     });
   } catch (const NumericalFailure& e) {
-    throw e.within(composition_context<Sys>(name, h));
+    throw e.within(composition_context(sys, name, h));
   }
   run.newton_mean = N > 0 ? double(newton_sum) / double(N) : 0;
   return run;
@@ -360,7 +364,7 @@ void for_each_step_named(const Sys& sys, const std::string& name, double h, Path
         drive_composition<Sys, decltype(g)>(sys, f, h, N,
                                             [&](const StepView<double, n, m>& s, int, double) { observe(s); });
       } catch (const NumericalFailure& e) {
-        throw e.within(composition_context<Sys>(name, h));
+        throw e.within(composition_context(sys, name, h));
       }
     });
     return;
@@ -452,13 +456,13 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
   if (kind == ReferenceKind::exact) {
     if constexpr (has_exact_v<Sys>) {
       if (!exact)
-        throw InputError(std::string("system '") + Sys::name + "' has no closed-form solution (use --reference odeint)");
+        throw InputError("system '" + system_name(sys) + "' has no closed-form solution (use --reference odeint)");
       ref.kind = "closed form";
       for (long j = 0; j <= N; ++j) {
         const auto x = sys.template exact<double>(t0 + static_cast<double>(j) * h);
         // where a closed form overflows (extreme parameters), not as a nan in some table downstream
         if (!x.q.allFinite() || !x.v.allFinite())
-          throw NumericalFailure(j, "reference", std::string("the closed-form solution of ") + Sys::name +
+          throw NumericalFailure(j, "reference", "the closed-form solution of " + system_name(sys) +
                                                      " is not finite at t = " + show(t0 + static_cast<double>(j) * h));
         for (int i = 0; i < n; ++i) {
           ref.q[static_cast<std::size_t>(j * n + i)] = x.q(i);
@@ -467,11 +471,11 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
       }
       return ref;
     } else {
-      throw InputError(std::string("system '") + Sys::name + "' has no closed-form solution (use --reference odeint)");
+      throw InputError("system '" + system_name(sys) + "' has no closed-form solution (use --reference odeint)");
     }
   }
   if (kind == ReferenceKind::odeint_rhs && !has_rhs_v<Sys>)
-    throw InputError(std::string("system '") + Sys::name + "' has no hand-written rhs (use --reference odeint)");
+    throw InputError("system '" + system_name(sys) + "' has no hand-written rhs (use --reference odeint)");
   require(std::isfinite(tol) && tol >= 1e-15 && tol < 1, "tol must be in [1e-15, 1), got " + show(tol));
   std::vector<double> times(static_cast<std::size_t>(N + 1));
   for (long j = 0; j <= N; ++j) times[static_cast<std::size_t>(j)] = t0 + static_cast<double>(j) * h;
@@ -513,7 +517,7 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
       const double qi = xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)];
       const double vi = xs[static_cast<std::size_t>(j)][static_cast<std::size_t>(n + i)];
       if (!std::isfinite(qi) || !std::isfinite(vi))
-        throw NumericalFailure(j, "reference", std::string("Odeint reference of ") + Sys::name + " is not finite");
+        throw NumericalFailure(j, "reference", "Odeint reference of " + system_name(sys) + " is not finite");
       ref.q[static_cast<std::size_t>(j * n + i)] = qi;
       ref.v[static_cast<std::size_t>(j * n + i)] = vi;
     }
@@ -526,9 +530,9 @@ Reference reference_of(const Sys& sys, double h, long N, ReferenceKind kind, dou
 // Linear maps (stability)
 
 template <class Sys>
-void require_linear_unconstrained(const char* what) {
+void require_linear_unconstrained(const Sys& sys, const char* what) {
   if (!is_linear<Sys>() || Sys::constraints > 0)
-    throw InputError(std::string(what) + " needs a linear system without constraints; '" + Sys::name + "' is not");
+    throw InputError(std::string(what) + " needs a linear system without constraints; '" + system_name(sys) + "' is not");
 }
 
 template <class Sys, class C, class = void>
@@ -570,7 +574,7 @@ std::vector<long double> one_step_matrix_of(const Sys& sys, double h, Path path)
     }
   }
   if constexpr (is_extra_scheme_v<X>) {
-    throw InputError(std::string("scheme '") + X::name + "' of system '" + Sys::name + "' gives no one-step matrix");
+    throw InputError(std::string("scheme '") + X::name + "' of system '" + system_name(sys) + "' gives no one-step matrix");
   } else {
     return affine_map_matrix<n>([&](const Vec<double, n>& q, const Vec<double, n>& p) {
       Stepper<Sys, X> st(sys, h);
@@ -623,29 +627,32 @@ struct has_expectations<Sys, std::void_t<decltype(Sys::expectations())>> : std::
 
 // The system's declared expectations, or the defaults (the horizon cut to 20).
 template <class Sys>
-Expectations expectations_of() {
+Expectations expectations_of(const Sys& sys) {
   if constexpr (has_expectations<Sys>::value) {
+    (void)sys;
     return Sys::expectations();
   } else {
     Expectations e;
-    const double T = horizon_of(Sys{});
+    const double T = horizon_of(sys);
     if (T > 20) e.params = {{"T", 20}};
     return e;
   }
 }
 
+// The entry of Sys. Every operation starts from `prototype` with the values it is given set by name: a header system's
+// defaults, or a formula system holding its model (one compiled type for every model of a shape).
 template <class Sys>
-SystemInfo make_system_info() {
+SystemInfo make_system_info(const Sys& prototype = Sys{}) {
   SystemInfo info;
-  info.name = Sys::name;
-  info.description = Sys::description;
+  info.name = system_name(prototype);
+  info.description = system_description(prototype);
   info.dof = Sys::dof;
   info.constraints = Sys::constraints;
   info.has_exact = has_exact_v<Sys>;
   info.has_herglotz = has_herglotz_v<Sys>;
   info.has_rhs = has_rhs_v<Sys>;
   info.linear = is_linear<Sys>();
-  Sys defaults;
+  Sys defaults = prototype;
   defaults.visit([&](const char* name, double& x, const char* doc) { info.params.push_back({name, x, doc}); });
   for_each_scheme<Sys>([&](auto x) {
     using X = decltype(x);
@@ -680,13 +687,13 @@ SystemInfo make_system_info() {
       info.compositions.push_back(si);
     }
 
-  info.expectations = expectations_of<Sys>();
+  info.expectations = expectations_of(prototype);
   if constexpr (has_measures<Sys>::value) info.measures = Sys::Measures::info();
-  info.validate = [](const ParamValues& pv) { make_system<Sys>(pv).validate(); };
-  info.horizon = [](const ParamValues& pv) { return horizon_of(make_system<Sys>(pv)); };
-  info.initial_time = [](const ParamValues& pv) { return initial_time(make_system<Sys>(pv)); };
-  info.run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, long every) {
-    const Sys sys = make_system<Sys>(pv);
+  info.validate = [prototype](const ParamValues& pv) { make_system(prototype, pv).validate(); };
+  info.horizon = [prototype](const ParamValues& pv) { return horizon_of(make_system(prototype, pv)); };
+  info.initial_time = [prototype](const ParamValues& pv) { return initial_time(make_system(prototype, pv)); };
+  info.run = [prototype](const ParamValues& pv, const std::string& scheme, double h, Path path, long every) {
+    const Sys sys = make_system(prototype, pv);
     sys.validate();
     if (is_composition_name(scheme))
       return visit_composition<Sys>(scheme, [&](auto g, const CompositionFamily& f) {
@@ -694,32 +701,32 @@ SystemInfo make_system_info() {
       });
     return visit_scheme<Sys>(scheme, [&](auto g) { return run_scheme<Sys, decltype(g)>(sys, h, path, every); });
   };
-  info.max_error = [](const ParamValues& pv, const std::string& scheme, double h, Path path, const Reference& ref) {
-    const Sys sys = make_system<Sys>(pv);
+  info.max_error = [prototype](const ParamValues& pv, const std::string& scheme, double h, Path path, const Reference& ref) {
+    const Sys sys = make_system(prototype, pv);
     sys.validate();
     return max_over_named(sys, scheme, h, path, ref, [](int, double q, double r) { return std::abs(q - r); });
   };
-  info.measure_run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, const Reference& ref,
+  info.measure_run = [prototype](const ParamValues& pv, const std::string& scheme, double h, Path path, const Reference& ref,
                         ErrorNorm norm) {
-    const Sys sys = make_system<Sys>(pv);
+    const Sys sys = make_system(prototype, pv);
     sys.validate();
     return measure_run_of(sys, scheme, h, path, ref, norm);
   };
-  info.max_relative_error = [](const ParamValues& pv, const std::string& scheme, double h, Path path,
+  info.max_relative_error = [prototype](const ParamValues& pv, const std::string& scheme, double h, Path path,
                                const Reference& ref, double shift) {
-    const Sys sys = make_system<Sys>(pv);
+    const Sys sys = make_system(prototype, pv);
     sys.validate();
     return max_over_named(sys, scheme, h, path, ref, [shift](int i, double q, double r) {
       return i == 0 ? std::abs((shift + q) / (shift + r) - 1) : 0.0;
     });
   };
-  info.reference = [](const ParamValues& pv, double h, long N, ReferenceKind kind, double tol) {
-    const Sys sys = make_system<Sys>(pv);
+  info.reference = [prototype](const ParamValues& pv, double h, long N, ReferenceKind kind, double tol) {
+    const Sys sys = make_system(prototype, pv);
     sys.validate();
     return reference_of(sys, h, N, kind, tol);
   };
-  info.time_run = [](const ParamValues& pv, const std::string& scheme, double h, Path path, int reps) {
-    const Sys sys = make_system<Sys>(pv);
+  info.time_run = [prototype](const ParamValues& pv, const std::string& scheme, double h, Path path, int reps) {
+    const Sys sys = make_system(prototype, pv);
     sys.validate();
     const long N = step_count(h, horizon_of(sys));
     if (is_composition_name(scheme))
@@ -746,8 +753,8 @@ SystemInfo make_system_info() {
       return st;
     });
   };
-  info.ode = [](const ParamValues& pv) -> std::function<void(double, const double*, double*)> {
-    const Sys sys = make_system<Sys>(pv);
+  info.ode = [prototype](const ParamValues& pv) -> std::function<void(double, const double*, double*)> {
+    const Sys sys = make_system(prototype, pv);
     sys.validate();
     return [sys](double t, const double* x, double* dx) {
       constexpr int n = Sys::dof;
@@ -759,9 +766,20 @@ SystemInfo make_system_info() {
       }
     };
   };
-  info.ode_rhs = [](const ParamValues& pv) -> std::function<void(double, const double*, double*)> {
+  info.observables = [prototype](const ParamValues& pv) -> SystemInfo::Observables {
+    const Sys sys = make_system(prototype, pv);
+    sys.validate();
+    return [sys](double t, const double* q, const double* v, double* out) {
+      constexpr int n = Sys::dof;
+      const Vec<double, n> Q = Eigen::Map<const Vec<double, n>>(q), V = Eigen::Map<const Vec<double, n>>(v);
+      out[0] = energy(sys, t, Q, V);
+      const Vec<double, n> p = momentum(sys, t, Q, V);
+      for (int i = 0; i < n; ++i) out[1 + i] = p(i);
+    };
+  };
+  info.ode_rhs = [prototype](const ParamValues& pv) -> std::function<void(double, const double*, double*)> {
     if constexpr (has_rhs_v<Sys>) {
-      const Sys sys = make_system<Sys>(pv);
+      const Sys sys = make_system(prototype, pv);
       sys.validate();
       return [sys](double t, const double* x, double* dx) {
         constexpr int n = Sys::dof;
@@ -778,20 +796,20 @@ SystemInfo make_system_info() {
       };
     } else {
       (void)pv;
-      throw InputError(std::string("system '") + Sys::name + "' has no hand-written rhs (use the equations derived by AD)");
+      throw InputError("system '" + system_name(prototype) + "' has no hand-written rhs (use the equations derived by AD)");
     }
   };
-  info.exact_positions = [](const ParamValues& pv, const std::vector<double>& times) {
+  info.exact_positions = [prototype](const ParamValues& pv, const std::vector<double>& times) {
     if constexpr (has_exact_v<Sys>) {
-      const Sys sys = make_system<Sys>(pv);
+      const Sys sys = make_system(prototype, pv);
       sys.validate();
-      if (!exact_available(sys)) throw InputError(std::string("system '") + Sys::name + "' has no closed-form solution");
+      if (!exact_available(sys)) throw InputError("system '" + system_name(sys) + "' has no closed-form solution");
       std::vector<double> q;
       q.reserve(times.size() * Sys::dof);
       for (double t : times) {
         const auto x = sys.template exact<double>(t);
         if (!x.q.allFinite())
-          throw NumericalFailure(0, "reference", std::string("the closed-form solution of ") + Sys::name +
+          throw NumericalFailure(0, "reference", "the closed-form solution of " + system_name(sys) +
                                                      " is not finite at t = " + show(t));
         for (int i = 0; i < Sys::dof; ++i) q.push_back(x.q(i));
       }
@@ -799,13 +817,13 @@ SystemInfo make_system_info() {
     } else {
       (void)pv;
       (void)times;
-      throw InputError(std::string("system '") + Sys::name + "' has no closed-form solution");
+      throw InputError("system '" + system_name(prototype) + "' has no closed-form solution");
       return std::vector<double>{};
     }
   };
-  info.one_step_matrix = [](const ParamValues& pv, const std::string& scheme, double h, Path path) {
-    require_linear_unconstrained<Sys>("a one-step matrix");
-    const Sys sys = make_system<Sys>(pv);
+  info.one_step_matrix = [prototype](const ParamValues& pv, const std::string& scheme, double h, Path path) {
+    const Sys sys = make_system(prototype, pv);
+    require_linear_unconstrained(sys, "a one-step matrix");
     sys.validate();
     require_positive(h, "h");
     if constexpr (is_linear<Sys>() && Sys::constraints == 0) {
@@ -818,14 +836,14 @@ SystemInfo make_system_info() {
       return std::vector<long double>{};
     }
   };
-  info.continuous_matrix = [](const ParamValues& pv) {
-    require_linear_unconstrained<Sys>("a continuous matrix");
-    const Sys sys = make_system<Sys>(pv);
+  info.continuous_matrix = [prototype](const ParamValues& pv) {
+    const Sys sys = make_system(prototype, pv);
+    require_linear_unconstrained(sys, "a continuous matrix");
     sys.validate();
     return continuous_matrix_of(sys);
   };
-  info.ode_initial_state = [](const ParamValues& pv, bool hand_written) {
-    const Sys sys = make_system<Sys>(pv);
+  info.ode_initial_state = [prototype](const ParamValues& pv, bool hand_written) {
+    const Sys sys = make_system(prototype, pv);
     sys.validate();
     const Vec<double, Sys::dof> q0 = sys.template initial_position<double>();
     const Vec<double, Sys::dof> v = sys.template initial_velocity<double>();

@@ -162,14 +162,14 @@ decltype(auto) visit_scheme(const std::string& name, F&& f) {
       }
     });
     if (!found)
-      throw InputError("unknown scheme '" + name + "' for system '" + Sys::name + "' (known: " + known_schemes<Sys>() + ")");
+      throw InputError("unknown scheme '" + name + "'" + of_system<Sys>("for") + " (known: " + known_schemes<Sys>() + ")");
   } else {
     std::optional<R> out;
     for_each_scheme<Sys>([&](auto x) {
       if (!out && names_scheme<Sys, decltype(x)>(name)) out.emplace(f(x));
     });
     if (!out)
-      throw InputError("unknown scheme '" + name + "' for system '" + Sys::name + "' (known: " + known_schemes<Sys>() + ")");
+      throw InputError("unknown scheme '" + name + "'" + of_system<Sys>("for") + " (known: " + known_schemes<Sys>() + ")");
     return R(std::move(*out));
   }
 }
@@ -181,8 +181,8 @@ decltype(auto) visit_generic_scheme(const std::string& name, F&& f) {
   return visit_scheme<Sys>(name, [&](auto x) -> decltype(f(LaLeft{})) {
     using X = decltype(x);
     if constexpr (is_extra_scheme_v<X>) {
-      throw InputError(std::string("scheme '") + X::name + "' of system '" + Sys::name +
-                       "' is a closed form without a residual: it has no modified equation here");
+      throw InputError(std::string("scheme '") + X::name + "'" + of_system<Sys>() +
+                       " is a closed form without a residual: it has no modified equation here");
     } else {
       return f(x);
     }
@@ -210,8 +210,8 @@ void visit_closed_form(const std::string& name, F&& f) {
   visit_scheme<Sys>(name, [&](auto x) {
     using C = runner_of_t<Sys, decltype(x)>;
     if constexpr (std::is_void_v<C>)
-      throw InputError("scheme '" + std::string(scheme_name_of<decltype(x)>()) + "' has no closed form on system '" +
-                       Sys::name + "'");
+      throw InputError("scheme '" + std::string(scheme_name_of<decltype(x)>()) + "'" + of_system<Sys>() +
+                       " has no closed form");
     else
       f(C{});
   });

@@ -2,6 +2,7 @@
 // Automatic modified equations of every registered system and scheme, by name (no templates here: the heavy
 // instantiation lives in one generated translation unit per line of core/src/systems.def, so a new system
 // gets its modified equations with no other file touched).
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -84,22 +85,25 @@ struct ModifiedSystem {
   std::vector<std::string> schemes;
 
   // F_0..F_K of `scheme` at (t, q, v, z); `check` also re-evaluates the residual (ModifiedPoint::residual).
-  ModifiedPoint (*at)(const ParamValues&, const std::string& scheme, int K, double t, const std::vector<double>& q,
-                      const std::vector<double>& v, double z, bool check) = nullptr;
+  std::function<ModifiedPoint(const ParamValues&, const std::string& scheme, int K, double t, const std::vector<double>& q,
+                              const std::vector<double>& v, double z, bool check)>
+      at;
   // The discrete solution (generic Newton step in long double, from the system's initial data, N = T/h steps)
   // against the order-K modified solution (Boost.Odeint dopri5, dense output, tolerance tol) started as `start`
   // says (z~(0) = z_0 = 0).
-  ModifiedAgreement (*agreement)(const ParamValues&, const std::string& scheme, int K, double h, double T, double tol,
-                                 AgreementStart start) = nullptr;
+  std::function<ModifiedAgreement(const ParamValues&, const std::string& scheme, int K, double h, double T, double tol,
+                                  AgreementStart start)>
+      agreement;
   // The shooting start alone: v~(0) with q~(0) = q_0, q~(h) = q_1.
-  std::vector<double> (*shoot)(const ParamValues&, const std::string& scheme, int K, double h, double tol) = nullptr;
+  std::function<std::vector<double>(const ParamValues&, const std::string& scheme, int K, double h, double tol)> shoot;
   // The modified equation of `scheme` as formulas to order K, every parameter a symbol (ModifiedFormulas::values
   // gives their values at the parameters passed), within a time budget (seconds); InputError for a system that
   // has no symbolic parameter type. `on_constraint` (a system with nonholonomic constraints): the point's velocities
   // are q' = S(t, q) u + w(t, q) in quasi-velocities u, so that the formulas live on the constraint (smaller, and
   // found sooner); the rows v<i> give the map back. Ignored by a system without such constraints.
-  ModifiedFormulas (*formulas)(const ParamValues&, const std::string& scheme, int K, double budget_seconds,
-                               bool on_constraint) = nullptr;
+  std::function<ModifiedFormulas(const ParamValues&, const std::string& scheme, int K, double budget_seconds,
+                                 bool on_constraint)>
+      formulas;
 };
 
 const std::vector<ModifiedSystem>& all_modified_systems();

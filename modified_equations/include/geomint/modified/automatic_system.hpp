@@ -1,5 +1,5 @@
 #pragma once
-// make_modified_system<Sys>(): the registry entry of one system's automatic modified equations — the engine
+// make_modified_system<Sys>(prototype): the registry entry of one system's automatic modified equations — the engine
 // (automatic.hpp) for every applicable scheme, the modified flow as an Odeint right-hand side, the shooting
 // start and the agreement run. Heavy: included only by the generated per-system translation units
 // (modified_equations/src/automatic_instance.cpp.in). A composition "<family>:<base>" uses the engine of its
@@ -298,18 +298,19 @@ ModifiedAgreement agreement_run(const Sys& sys, const Family* family, int K, dou
 
 namespace geomint::modified {
 
+// The entry of Sys; every operation starts from `prototype` (generic::make_system_info says why).
 template <class Sys>
-ModifiedSystem make_modified_system() {
+ModifiedSystem make_modified_system(const Sys& prototype = Sys{}) {
   ModifiedSystem s;
-  s.name = Sys::name;
+  s.name = generic::system_name(prototype);
   s.dof = Sys::dof;
   s.constraints = Sys::constraints;
   s.holonomic = generic::has_holonomic_v<Sys>;
   s.has_herglotz = generic::has_herglotz_v<Sys>;
   s.schemes = generic::generic_scheme_names<Sys>();
-  s.at = [](const ParamValues& pv, const std::string& scheme, int K, double t, const std::vector<double>& q,
-            const std::vector<double>& v, double z, bool check) {
-    const Sys sys = generic::make_system<Sys>(pv);
+  s.at = [prototype](const ParamValues& pv, const std::string& scheme, int K, double t, const std::vector<double>& q,
+                     const std::vector<double>& v, double z, bool check) {
+    const Sys sys = generic::make_system(prototype, pv);
     sys.validate();
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
     const auto Q = detail::to_vec<Sys::dof>(q, "q");
@@ -317,16 +318,16 @@ ModifiedSystem make_modified_system() {
     return detail::visit_modified_scheme<Sys>(
         scheme, [&](auto g, const detail::Family* f) { return detail::point<Sys, decltype(g)>(sys, f, K, t, Q, V, z, check); });
   };
-  s.agreement = [](const ParamValues& pv, const std::string& scheme, int K, double h, double T, double tol,
-                   AgreementStart start) {
-    const Sys sys = generic::make_system<Sys>(pv);
+  s.agreement = [prototype](const ParamValues& pv, const std::string& scheme, int K, double h, double T, double tol,
+                            AgreementStart start) {
+    const Sys sys = generic::make_system(prototype, pv);
     sys.validate();
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
     return detail::visit_modified_scheme<Sys>(
         scheme, [&](auto g, const detail::Family* f) { return detail::agreement_run<Sys, decltype(g)>(sys, f, K, h, T, tol, start); });
   };
-  s.shoot = [](const ParamValues& pv, const std::string& scheme, int K, double h, double tol) {
-    const Sys sys = generic::make_system<Sys>(pv);
+  s.shoot = [prototype](const ParamValues& pv, const std::string& scheme, int K, double h, double tol) {
+    const Sys sys = generic::make_system(prototype, pv);
     sys.validate();
     return detail::visit_modified_scheme<Sys>(scheme, [&](auto g, const detail::Family* f) {
       using G = decltype(g);

@@ -9,7 +9,7 @@
 
 namespace geomint::modified {
 
-// The entry of `model`, alive as long as the returned pointer; its schemes are the applicable ones (no contact
+// The entry of `model` (it holds the model); its schemes are the applicable ones (no contact
 // scheme without a Herglotz Lagrangian), its formulas' symbols the model's parameters.
 std::shared_ptr<const ModifiedSystem> formula_modified_system(std::shared_ptr<const formula::FormulaModel> model);
 

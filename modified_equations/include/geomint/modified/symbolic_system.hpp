@@ -28,11 +28,13 @@ template <template <class> class SysT>
 struct SymbolicOf<SysT<double>, void> {
   static constexpr bool available = true;
   using type = SysT<GiNaC::ex>;
+  static type from(const SysT<double>&) { return type{}; }  // its fields then become symbols (symbolic_system)
 };
 template <class Sys>
 struct SymbolicOf<Sys, std::void_t<typename Sys::template symbolic<GiNaC::ex>>> {
   static constexpr bool available = true;
   using type = typename Sys::template symbolic<GiNaC::ex>;
+  static type from(const Sys&) { return type{}; }
 };
 
 // The values of the symbolic parameters at a numeric instance: its fields by name (visit), or, for a system
@@ -56,10 +58,13 @@ std::vector<std::pair<std::string, double>> symbol_values(Sys sys) {
 
 // Every parameter of the system a symbol named as on the command line.
 template <class SymSys>
-SymSys symbolic_system(FormulaSymbols& sy) {
-  SymSys sys;
+SymSys symbolic_system(SymSys sys, FormulaSymbols& sy) {
   sys.visit([&](const char* name, GiNaC::ex& field, const char*) { field = sy.param(name); });
   return sys;
+}
+template <class SymSys>
+SymSys symbolic_system(FormulaSymbols& sy) {
+  return symbolic_system(SymSys{}, sy);
 }
 
 // The modified force of an LA scheme: with the modified Lagrangian L_mod = sum_k h^k L_k (the meshed
@@ -158,26 +163,29 @@ SymbolicResult symbolic_modified(const SymSys& sys, FormulaSymbols& sy, int K, c
 // The rows the registry hands to programs (strings: programs never see GiNaC).
 ModifiedFormulas formula_rows(const SymbolicResult& r, const FormulaSymbols& sy);
 
+// The formulas of `scheme` on the symbolic twin of `prototype` (SymbolicOf<Sys>::from); ModifiedFormulas::values
+// at the parameters `pv`.
 template <class Sys>
-ModifiedFormulas symbolic_formulas(const ParamValues& pv, const std::string& scheme, int K, double budget_seconds,
-                                   bool on_constraint = false) {
+ModifiedFormulas symbolic_formulas(const Sys& prototype, const ParamValues& pv, const std::string& scheme, int K,
+                                   double budget_seconds, bool on_constraint = false) {
   if constexpr (!SymbolicOf<Sys>::available) {
+    (void)prototype;
     (void)pv;
     (void)scheme;
     (void)K;
     (void)budget_seconds;
     (void)on_constraint;
-    throw InputError(std::string("system '") + Sys::name + "' has no symbolic parameter type yet (formulas need its header templated on it)");
+    throw InputError("system '" + generic::system_name(prototype) + "' has no symbolic parameter type yet (formulas need its header templated on it)");
   } else {
     using SymSys = typename SymbolicOf<Sys>::type;
     if (generic::is_composition_name(scheme)) throw InputError(composition_formulas_refusal(scheme));
     require(K >= 0 && K <= registry_max_order, "order must be an integer in [0, " + std::to_string(registry_max_order) + "]");
-    const Sys numeric = generic::make_system<Sys>(pv);
+    const Sys numeric = generic::make_system(prototype, pv);
     numeric.validate();
     return generic::visit_generic_scheme<Sys>(scheme, [&](auto g) {
       const SymbolicBudget budget{budget_seconds};
       FormulaSymbols sy(Sys::dof);
-      const SymSys sys = symbolic_system<SymSys>(sy);
+      const SymSys sys = symbolic_system(SymbolicOf<Sys>::from(prototype), sy);
       const SymbolicResult r = symbolic_modified<SymSys, decltype(g), registry_max_order>(sys, sy, K, budget, on_constraint);
       ModifiedFormulas f = formula_rows(r, sy);
       f.K_asked = K;
@@ -188,6 +196,12 @@ ModifiedFormulas symbolic_formulas(const ParamValues& pv, const std::string& sch
       return f;
     });
   }
+}
+
+template <class Sys>
+ModifiedFormulas symbolic_formulas(const ParamValues& pv, const std::string& scheme, int K, double budget_seconds,
+                                   bool on_constraint = false) {
+  return symbolic_formulas(Sys{}, pv, scheme, K, budget_seconds, on_constraint);
 }
 
 }  // namespace geomint::modified
