@@ -4,9 +4,11 @@
 // warm-up. The baselines integrate x = (q, q') with the acceleration derived from L, F and Phi by AD, or with the
 // system's own (--equations rhs: what a hand-coded baseline costs). An adaptive method's error is taken at dense
 // output on the grid of h-max, or at the steps it chose against the closed form (--adaptive-error steps: no output
-// grid caps its step size).
+// grid caps its step size). --measure adds quantities measured along every run against the reference on the grid of
+// h-max: the energy, a momentum p<i> = dL/dq'_i, or a formula of the state ("<name>=<formula>").
 //   work_precision [--system oscillator] [--schemes ...] [--h-max 0.1] [--h-min 1e-3] [--tol 1e-3 ... 1e-12] [--reps 5]
-//                  [--baselines odeint-rk4 odeint-dopri5 odeint-bulirsch-stoer gsl-rk8pd] [parameters: a sweep]
+//                  [--baselines odeint-rk4 odeint-dopri5 odeint-bulirsch-stoer gsl-rk8pd] [--measure energy p1 r=...]
+//                  [parameters: a sweep]
 // The paper's damped oscillator (T = 50, alpha 0.01, 0.1, 1) and the Foucault pendulum over its anomaly-free
 // horizons (T = 4 s with the paper's constraint, 100 s with the rotation) are lines of the Makefile's
 // FIGURE_COMMANDS.
@@ -53,7 +55,11 @@ int main(int argc, char** argv) {
         "against the closed form)")(
         "target", po::value(&target)->default_value(target, "1e-6"),
         "the max error in q the summary asks each method to reach (its cheapest CPU time to reach it, the best "
-        "geometric scheme's over the best adaptive method's)");
+        "geometric scheme's over the best adaptive method's); and each measure's error")(
+        "measure", po::value(&opt.measures)->multitoken(),
+        "quantities measured along every run against the reference, max_k |Q(run) - Q(ref)| at t_k = t0 + k h-max: "
+        "energy, p<i> (the momentum dL/dq'_i), <name>=<formula> (in t, q1.., v1.., pi and the parameters, e.g. "
+        "'r=sqrt(q1^2+q2^2)'); each a column <name>_err, a line of the summary and a panel of the figure");
     add_baseline_study_options(cli, equations, path_name, norm_name, opt.reps);
     if (!cli.parse(argc, argv)) return 0;
     const SystemInfo& sys = sysopt.system();
@@ -71,6 +77,7 @@ int main(int argc, char** argv) {
     opt.hand_written = equations == "rhs";
     opt.at_steps = adaptive_error == "steps";
     check_work_precision(sys, combos, opt);
+    const std::vector<StateMeasure> measures = state_measures(sys, opt.measures);
     const auto dir = prepare_output_dir(cli.out);
 
     std::fprintf(stderr, "work_precision: %s ...\n", sys.name.c_str());
@@ -89,6 +96,8 @@ int main(int argc, char** argv) {
                                  {"error", "max_j |q(t_j) - q_ref(t_j)| (" + std::string(to_string(opt.norm)) +
                                                " norm); adaptive methods: " +
                                                (opt.at_steps ? "at every step they chose" : "dense output at t = k h-max")}});
+    for (std::size_t m = 0; m < measures.size(); ++m)
+      params.emplace_back(measures[m].column, measures[m].doc + " (--measure " + opt.measures[m] + ")");
     // the swept values of a point's combination
     auto key = [&](const WorkPoint& p) {
       std::vector<std::string> k;
@@ -99,6 +108,7 @@ int main(int argc, char** argv) {
     cols.insert(cols.end(), swept.begin(), swept.end());
     tcols.insert(tcols.end(), swept.begin(), swept.end());
     cols.insert(cols.end(), {"knob", "value", "steps", "err_max"});
+    for (const auto& m : measures) cols.push_back(m.column);
     tcols.insert(tcols.end(), {"knob", "value", "seconds_median", "seconds_min", "seconds_max", "reps"});
     const std::string stem = sys.name + "_work_precision";
     TsvWriter data(dir / (stem + ".tsv"), "work_precision", params, cols);
@@ -111,6 +121,7 @@ int main(int argc, char** argv) {
         trow.push_back(k);
       }
       row.insert(row.end(), {p.knob, format_cell(p.value), std::to_string(p.steps), format_cell(p.errors[0])});
+      for (std::size_t m = 0; m < measures.size(); ++m) row.push_back(format_cell(p.errors[1 + m]));
       trow.insert(trow.end(), {p.knob, format_cell(p.value), format_cell(p.time.median), format_cell(p.time.min),
                                format_cell(p.time.max), std::to_string(p.time.reps)});
       data.write_row(row);
@@ -124,7 +135,9 @@ int main(int argc, char** argv) {
     // to reach the target max error, the best geometric scheme's over the best adaptive method's, and each method's
     // fitted slope of log(error) against log(time) above the reference's floor (fewer than three points there: no
     // slope). Written with the timings' caveat: never the same bits twice.
-    const std::vector<WorkSummaryRow> summary = summarise_work(pts, {{"err_max", "max error in q", target, study.floor}});
+    std::vector<WorkMeasure> summarised{{"err_max", "max error in q", target, study.floor}};
+    for (const auto& m : measures) summarised.push_back({m.column, m.doc, target, study.floor});
+    const std::vector<WorkSummaryRow> summary = summarise_work(pts, summarised);
     std::vector<std::string> scols{"kind", "measure", "target"};
     scols.insert(scols.end(), swept.begin(), swept.end());
     scols.insert(scols.end(), {"method", "value"});
@@ -162,7 +175,7 @@ int main(int argc, char** argv) {
       std::printf("%-*s", width, label.c_str());
       for (std::size_t g = 0; g < combos.size(); ++g)
         for (const auto& r : summary)
-          if (r.kind == kind && r.method == method && r.group == double(g)) {
+          if (r.kind == kind && r.measure == "err_max" && r.method == method && r.group == double(g)) {
             if (std::isfinite(r.value))
               std::printf(format, r.value * scale);
             else
@@ -175,22 +188,28 @@ int main(int argc, char** argv) {
 
     plots::Figure fig;
     fig.title = sys.name + ": max error in q against CPU time (median)";
-    fig.cols = static_cast<int>(std::min<std::size_t>(combos.size(), 3));
-    fig.rows = static_cast<int>((combos.size() + 2) / 3);
+    // a panel per combination (three to a row), or with measures a row per combination: q, then each measure
+    fig.cols = measures.empty() ? static_cast<int>(std::min<std::size_t>(combos.size(), 3)) : static_cast<int>(1 + measures.size());
+    fig.rows = measures.empty() ? static_cast<int>((combos.size() + 2) / 3) : static_cast<int>(combos.size());
     fig.width_in = 4.6 * fig.cols;
     fig.height_in = 4.6 * fig.rows;
     for (const auto& pv : combos) {
       std::string title;
       for (const auto& s : swept) title += (title.empty() ? "" : ", ") + s + " = " + format_number(param_value(pv, sys, s));
-      plots::Panel p;
-      p.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
-                "set ylabel 'max error in q'\nset key bottom left font ',8'\nset title '" +
-                (title.empty() ? "T = " + format_number(sys.horizon(pv)) : title) + "'\n";
-      for (const auto& m : methods) {
-        auto keep = [&](std::size_t i) { return d.text(i, "method") == m && in(i, pv); };
-        p.series.push_back({tt.numbers("seconds_median", keep), d.numbers("err_max", keep), m, plots::style_for(m, "linespoints")});
+      std::vector<std::pair<std::string, std::string>> panels{{"err_max", "max error in q"}};
+      // a measure's label is its name (letters, digits, _: checked), never the formula a user wrote
+      for (const auto& m : measures) panels.emplace_back(m.column, "max error in " + m.column.substr(0, m.column.size() - 4));
+      for (const auto& [column, label] : panels) {
+        plots::Panel p;
+        p.setup = "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'CPU time per run (s)'\n"
+                  "set ylabel '" + label + "'\nset key bottom left font ',8'\nset title '" +
+                  (title.empty() ? "T = " + format_number(sys.horizon(pv)) : title) + "'\n";
+        for (const auto& m : methods) {
+          auto keep = [&](std::size_t i) { return d.text(i, "method") == m && in(i, pv); };
+          p.series.push_back({tt.numbers("seconds_median", keep), d.numbers(column, keep), m, plots::style_for(m, "linespoints")});
+        }
+        fig.panels.push_back(std::move(p));
       }
-      fig.panels.push_back(std::move(p));
     }
     fig.draw(dir / stem);
     return 0;

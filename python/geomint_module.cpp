@@ -368,7 +368,7 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
                         const py::dict& params, const std::string& path, int reps, const std::string& ref_name, double tol,
                         const std::vector<std::string>& baselines, const std::vector<double>& tols,
                         const std::string& equations, const std::string& adaptive_error, double relative_window,
-                        bool budget, const py::object& progress) {
+                        const std::vector<std::string>& measures, bool budget, const py::object& progress) {
   const BudgetScope scope(budget);  // check_work_precision plans the work
   const SystemInfo& sys = s.info();
   const ParamValues pv = param_values(params);
@@ -387,7 +387,9 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
   opt.hand_written = equations == "rhs";
   opt.at_steps = adaptive_error == "steps";
   opt.relative_window = relative_window;
+  opt.measures = measures;
   check_work_precision(sys, {pv}, opt);
+  const std::vector<StateMeasure> measured = state_measures(sys, measures);
   warn_contact(s, {pv}, opt.schemes);
   // the study checks (and plans) again: from zero, or the plan would count twice
   const BudgetScope again(budget);
@@ -395,6 +397,7 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
   // per method, its points in the study's order (over h, or over tol)
   std::vector<std::string> methods;
   std::vector<std::vector<double>> value, error, seconds, relative;
+  std::vector<std::vector<std::vector<double>>> measure(measured.size());  // [measure][method][point]
   std::vector<std::string> knob;
   for (const auto& pt : study.points) {
     auto it = std::find(methods.begin(), methods.end(), pt.method);
@@ -405,12 +408,15 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
       error.emplace_back();
       seconds.emplace_back();
       relative.emplace_back();
+      for (auto& m : measure) m.emplace_back();
       it = methods.end() - 1;
     }
     const auto i = static_cast<std::size_t>(it - methods.begin());
     value[i].push_back(pt.value);
     error[i].push_back(pt.errors[0]);
-    if (pt.errors.size() > 1) relative[i].push_back(pt.errors[1]);
+    const std::size_t first = relative_window > 0 ? 2 : 1;  // the measures' errors follow q's
+    if (relative_window > 0) relative[i].push_back(pt.errors[1]);
+    for (std::size_t m = 0; m < measured.size(); ++m) measure[m][i].push_back(pt.errors[first + m]);
     seconds[i].push_back(pt.time.median);
   }
   py::dict err, sec, val, kn, rel;
@@ -423,10 +429,18 @@ py::dict work_precision(const System& s, const std::vector<std::string>& schemes
     val[name] = to_array(value[i], n);
     kn[name] = knob[i];
   }
+  py::dict mea;
+  for (std::size_t m = 0; m < measured.size(); ++m) {
+    py::dict per;
+    for (std::size_t i = 0; i < methods.size(); ++i)
+      per[py::str(methods[i])] = to_array(measure[m][i], static_cast<long>(measure[m][i].size()));
+    mea[py::str(measured[m].column.substr(0, measured[m].column.size() - 4))] = per;
+  }
   py::dict d;
   d["h"] = to_array(hs, static_cast<long>(hs.size()));
   d["error"] = err;
   if (relative_window > 0) d["relative_error"] = rel;
+  d["measures"] = mea;
   d["seconds"] = sec;
   d["value"] = val;
   d["knob"] = kn;
@@ -871,11 +885,13 @@ PYBIND11_MODULE(_geomint, m) {
            py::arg("params") = py::dict(), py::arg("path") = "fast", py::arg("reps") = 3, py::arg("reference") = "auto",
            py::arg("tol") = 1e-13, py::arg("baselines") = std::vector<std::string>{},
            py::arg("tols") = std::vector<double>{}, py::arg("equations") = "ad", py::arg("adaptive_error") = "output",
-           py::arg("relative_window") = 0.0, py::arg("budget") = true, py::arg("progress") = py::none(),
+           py::arg("relative_window") = 0.0, py::arg("measures") = std::vector<std::string>{}, py::arg("budget") = true,
+           py::arg("progress") = py::none(),
            "budget=True (budget=False: run anyway) refuses at once a sweep beyond the time budget; error and median CPU seconds of one run, per method: the schemes against h, the baselines (odeint-rk4 over h; "
            "odeint-dopri5, odeint-bulirsch-stoer, gsl-rk8pd over tols) as the work_precision program runs them; with "
            "relative_window > 0 also relative_error, the error relative to the solution's size over that window as "
-           "long_horizon measures it")
+           "long_horizon measures it; with measures (energy, p<i>, '<name>=<formula>') also measures {name: {method: "
+           "array}}, max_k |Q(run) - Q(reference)| at t_k = t0 + k max(h)")
       .def("modified_equation", &modified_equation, py::arg("scheme"), py::arg("order") = 4, py::arg("t") = 0.0,
            py::arg("q") = std::vector<double>{}, py::arg("v") = std::vector<double>{}, py::arg("z") = 0.0,
            py::arg("params") = py::dict(), py::arg("progress") = py::none(),

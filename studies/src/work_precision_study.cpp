@@ -1,15 +1,18 @@
 // The work–precision study (work_precision.hpp): every scheme of a system over h and Boost.Odeint / GSL
 // baselines over h or tolerance, each point's error against one reference and its CPU time.
 #include <algorithm>
-#include <deque>
-#include <optional>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <optional>
 
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
+#include "geomint/formula/state_formula.hpp"
 #include "geomint/interrupt.hpp"
 #include "geomint/io.hpp"
 #include "geomint/reference.hpp"
@@ -53,6 +56,102 @@ double relative_size_floor(const SystemInfo& sys, const WorkPrecisionOptions& op
 
 namespace {
 
+// A quantity of a state, Q(t, q, q').
+using Quantity = std::function<double(double t, const double* q, const double* v)>;
+
+// One measure asked: energy, a momentum component (index 1..n of SystemInfo::observables), or a named formula.
+struct MeasureSpec {
+  std::string name;
+  int observable = -1;  // 0: energy, i: p_i; -1: the formula
+  std::string formula;
+};
+
+bool identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+// The system's parameters at pv (its defaults where pv is silent), for a formula's symbols.
+std::vector<std::pair<std::string, double>> parameters_at(const SystemInfo& sys, const ParamValues& pv) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const auto& p : sys.params) {
+    double x = p.value;
+    for (const auto& [name, value] : pv)
+      if (name == p.name) x = value;
+    out.emplace_back(p.name, x);
+  }
+  return out;
+}
+
+MeasureSpec parse_measure(const SystemInfo& sys, const std::string& spec) {
+  MeasureSpec m;
+  const auto eq = spec.find('=');
+  if (eq != std::string::npos) {
+    m.name = spec.substr(0, eq);
+    m.formula = spec.substr(eq + 1);
+    require(identifier(m.name), "measure '" + spec + "': a formula's measure is <name>=<formula>, the name a letter followed by "
+                                "letters, digits or _");
+    require(m.name != "energy" && !(m.name.size() > 1 && m.name[0] == 'p' && std::isdigit(static_cast<unsigned char>(m.name[1]))),
+            "measure '" + spec + "': '" + m.name + "' names a measure of its own (energy, p<i>): choose another name");
+    formula::StateFormula(m.formula, sys.dof, parameters_at(sys, {}));  // refused here, before any work
+    return m;
+  }
+  m.name = spec;
+  if (spec == "energy") {
+    m.observable = 0;
+    return m;
+  }
+  if (spec.size() >= 2 && spec.size() <= 4 && spec[0] == 'p' && spec[1] != '0' &&
+      std::all_of(spec.begin() + 1, spec.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+    const int i = std::stoi(spec.substr(1));
+    require(i <= sys.dof, "measure '" + spec + "': system '" + sys.name + "' has " + std::to_string(sys.dof) +
+                              (sys.dof == 1 ? " coordinate" : " coordinates") + " (p1..p" + std::to_string(sys.dof) + ")");
+    m.observable = i;
+    return m;
+  }
+  throw InputError("unknown measure '" + spec + "' (known: energy, p1..p" + std::to_string(sys.dof) +
+                   " (the momentum dL/dq'_i), <name>=<formula> in t, q1.., v1.. and the parameters)");
+}
+
+std::vector<MeasureSpec> parse_measures(const SystemInfo& sys, const std::vector<std::string>& specs) {
+  std::vector<MeasureSpec> out;
+  for (const auto& spec : specs) {
+    MeasureSpec m = parse_measure(sys, spec);
+    for (const auto& o : out) require(o.name != m.name, "measure '" + m.name + "' is asked twice");
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+Quantity quantity_at(const SystemInfo& sys, const ParamValues& pv, const MeasureSpec& m) {
+  if (m.observable < 0) {
+    auto f = std::make_shared<const formula::StateFormula>(m.formula, sys.dof, parameters_at(sys, pv));
+    return [f](double t, const double* q, const double* v) { return (*f)(t, q, v); };
+  }
+  auto obs = std::make_shared<const SystemInfo::Observables>(sys.observables(pv));
+  const int n = sys.dof, k = m.observable;
+  return [obs, n, k](double t, const double* q, const double* v) {
+    std::vector<double> out(static_cast<std::size_t>(n + 1));
+    (*obs)(t, q, v, out.data());
+    return out[static_cast<std::size_t>(k)];
+  };
+}
+
+}  // namespace
+
+std::vector<StateMeasure> state_measures(const SystemInfo& sys, const std::vector<std::string>& specs) {
+  std::vector<StateMeasure> out;
+  for (const auto& m : parse_measures(sys, specs)) {
+    const std::string what = m.observable == 0   ? "E (the energy)"
+                             : m.observable > 0 ? "p" + std::to_string(m.observable) + " = dL/dv" + std::to_string(m.observable)
+                                                : m.formula;
+    out.push_back({m.name + "_err", "max_k |Q(t_k, q_k, v_k) - Q(t_k, q_ref, v_ref)| at t_k = t0 + k h-max, Q = " + what});
+  }
+  return out;
+}
+
+namespace {
+
 // One combination of parameters: its equations, reference and every point.
 // A baseline runs on its own clock from 0: the equations of a system that starts at t0 are read at t0 + that clock.
 Rhs on_own_clock(const SystemInfo& sys, const ParamValues& pv, Rhs f) {
@@ -84,7 +183,11 @@ struct Combination {
   std::vector<double> size;  // filled by size_reference
   double size_floor = 0;     // below it t_k is not counted
   bool relative() const { return opt.relative_window > 0; }
-  std::size_t n_errors() const { return relative() ? 2 : 1; }
+  std::vector<Quantity> quantities{};  // the measures' Q at these parameters (WorkPrecisionOptions::measures)
+  // the max error, the relative error where asked, one error per measure
+  std::size_t n_errors() const { return (relative() ? 2 : 1) + quantities.size(); }
+  // whether the study reads a run on the output grid t_k = k h_out
+  bool on_grid() const { return relative() || !quantities.empty(); }
   void size_reference() {
     if (!relative() || ref_failure) return;
     size_floor = relative_size_floor(sys, opt);
@@ -120,10 +223,27 @@ struct Combination {
     }
     double value() const { return counted ? worst : missing_value; }
   };
-  // {the max error} or {the max error, the relative error}
-  std::vector<double> errors(double err, const Relative* rel) const {
-    if (!relative()) return {err};
-    return {err, rel->value()};
+  // The measures' errors along one run, fed the state at output k (time t) against the reference there.
+  struct Measures {
+    const Combination& c;
+    std::vector<double> worst = std::vector<double>(c.quantities.size(), 0.0);
+    void add(long k, double t, const double* q, const double* v) {
+      if (c.quantities.empty()) return;
+      const std::size_t i = static_cast<std::size_t>(c.ref.index(k, c.h_out) * c.n);
+      for (std::size_t m = 0; m < c.quantities.size(); ++m) {
+        const double d = std::abs(c.quantities[m](t, q, v) - c.quantities[m](t, &c.ref.q[i], &c.ref.v[i]));
+        if (!std::isfinite(d))
+          throw NumericalFailure(k, c.opt.measures[m], "the measure is not finite at t = " + show(t));
+        worst[m] = std::max(worst[m], d);
+      }
+    }
+  };
+  // {the max error}, then the relative error where asked, then the measures' errors
+  std::vector<double> errors(double err, const Relative* rel, const Measures* mea) const {
+    std::vector<double> e{err};
+    if (relative()) e.push_back(rel->value());
+    if (mea) e.insert(e.end(), mea->worst.begin(), mea->worst.end());
+    return e;
   }
 
   std::string where(const std::string& method, const char* knob, double value) const {
@@ -141,12 +261,17 @@ struct Combination {
         [&] {
           need_reference();
           const double err = sys.measure_run(pv, name, h, opt.path, ref, opt.norm).front();
-          if (!relative()) return Measured{{err}, N};
+          if (!on_grid()) return Measured{{err}, N};
           const long every = ratio_of(h_out, h);
           const Run r = sys.run(pv, name, h, opt.path, every);  // q at t_k = k h_out (j = k every)
           Relative rel{*this};
-          for (std::size_t k = 0; k < r.j.size(); ++k) rel.add(r.j[k] / every, &r.q[k * static_cast<std::size_t>(n)]);
-          return Measured{errors(err, &rel), N};
+          Measures mea{*this};
+          for (std::size_t k = 0; k < r.j.size(); ++k) {
+            const std::size_t at = k * static_cast<std::size_t>(n);
+            if (relative()) rel.add(r.j[k] / every, &r.q[at]);
+            mea.add(r.j[k] / every, r.t[k], &r.q[at], &r.v[at]);
+          }
+          return Measured{errors(err, &rel, &mea), N};
         },
         [&] { return sys.time_run(pv, name, h, opt.path, opt.reps); }, opt.reps, where(name, "h", h));
   }
@@ -175,7 +300,7 @@ struct Combination {
     const bool at_steps = !rk4 && opt.at_steps;  // read against the closed form, not the reference
     const double start = sys.initial_time ? sys.initial_time(pv) : 0.0;  // the baselines' clock starts at 0
     const long stride = ref_failure || at_steps ? 1 : ref.index(1, rk4 ? knob : h_out);
-    const long every = rk4 && relative() ? ratio_of(h_out, knob) : 1;
+    const long every = rk4 && on_grid() ? ratio_of(h_out, knob) : 1;
     auto label = [&](bool measured) {
       b.label = std::string("Boost.Odeint (") + (measured ? "measured" : "timed") + " run)";
     };
@@ -184,17 +309,22 @@ struct Combination {
       label(true);
       double err = 0;
       Relative rel{*this};
+      Measures mea{*this};
       std::vector<double> ts, qs;  // at_steps: the states where the closed form is read afterwards
       const BaselineObserver observe = [&](std::size_t k, double t, const double* x) {
         if (rk4) {
           if (k > 0) err = std::max(err, distance(x, &ref.q[k * static_cast<std::size_t>(stride * n)], n, opt.norm));
-          if (relative() && static_cast<long>(k) % every == 0) rel.add(static_cast<long>(k) / every, x);
+          if (static_cast<long>(k) % every == 0) {
+            if (relative()) rel.add(static_cast<long>(k) / every, x);
+            mea.add(static_cast<long>(k) / every, start + t, x, x + n);
+          }
         } else if (at_steps) {
           ts.push_back(start + t);
           qs.insert(qs.end(), x, x + n);
         } else {
           err = std::max(err, distance(x, &ref.q[k * static_cast<std::size_t>(stride * n)], n, opt.norm));
           if (relative()) rel.add(static_cast<long>(k), x);
+          mea.add(static_cast<long>(k), start + t, x, x + n);
         }
       };
       const BaselineCount c = run_baseline(b, f, x0, &observe);
@@ -203,7 +333,7 @@ struct Combination {
         for (std::size_t k = 0; k < ts.size(); ++k)
           err = std::max(err, distance(&qs[k * static_cast<std::size_t>(n)], &exact[k * static_cast<std::size_t>(n)], n, opt.norm));
       }
-      return Measured{errors(err, &rel), c.steps};
+      return Measured{errors(err, &rel, &mea), c.steps};
     };
     WorkPoint p = work_point(name, rk4 ? "rk" : "adaptive", rk4 ? "h" : "tol", knob, group);
     if (rk4) p.steps = b.steps;  // known before the run: it stays in the table where the run fails
@@ -233,7 +363,10 @@ void check_work_precision(const SystemInfo& sys, const std::vector<ParamValues>&
   require(std::isfinite(opt.relative_window) && opt.relative_window >= 0, "the relative error's window must be >= 0");
   require(opt.relative_window == 0 || !opt.at_steps,
           "the relative error is taken on the output grid: it cannot be asked with the error at the adaptive steps");
-  if (opt.relative_window > 0) {  // the output grid t_k = k h-max: every h divides h-max, h-max divides every T
+  parse_measures(sys, opt.measures);
+  require(opt.measures.empty() || !opt.at_steps,
+          "the measures are taken on the output grid: they cannot be asked with the error at the adaptive steps");
+  if (opt.relative_window > 0 || !opt.measures.empty()) {  // the output grid t_k = k h-max: every h divides h-max, h-max divides every T
     const double h_out = *std::max_element(opt.hs.begin(), opt.hs.end());
     for (double h : opt.hs) ratio_of(h_out, h);
     for (const auto& pv : combos) step_count(h_out, sys.horizon(pv));
@@ -278,6 +411,7 @@ WorkPrecisionStudy work_precision_study(const SystemInfo& sys, const std::vector
       k.ref_failure = f;
     }
     k.size_reference();
+    for (const auto& m : parse_measures(sys, opt.measures)) k.quantities.push_back(quantity_at(sys, pv, m));
     // a watched call's progress (interrupt.hpp): the points of this combination
     Task task("work_precision", "points",
               static_cast<double>(opt.hs.size() * (opt.schemes.size() + opt.baselines.size()) +

@@ -10,6 +10,7 @@
 #include "geomint/io.hpp"
 #include "geomint/plots/figure.hpp"
 #include "geomint/study.hpp"
+#include "geomint/work_precision.hpp"
 #include "helpers.hpp"
 
 using namespace geomint;
@@ -254,4 +255,47 @@ TEST_CASE("work_precision's slopes against CPU time leave out the reference's fl
   CHECK(slopes == 2);
   CHECK(below >= 2);  // rk4's finest runs are at the floor: the rule is exercised
   std::filesystem::remove_all(dir);
+}
+
+// --measure: the program's columns are the study's (the same run in this process, the table's 15 digits), its summary
+// and its header name each measure, and a formula the user writes reaches the table and never the figure's commands.
+TEST_CASE("work_precision --measure writes each measure's errors, as the study measures them", "[programs][generic][work_precision]") {
+  const auto dir = fresh_dir("work-precision-measures");
+  const auto r = run_program("work_precision", "--system pendulum --T 4 --h-max 0.1 --h-min 0.05 --schemes la-midpoint "
+                                               "--baselines odeint-rk4 odeint-dopri5 --tol 1e-6 1e-8 --reps 1 "
+                                               "--measure energy 'side=sin(q1)*v1' --out " + dir.string());
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto d = plots::read_tsv(dir / "pendulum_work_precision.tsv");
+  WorkPrecisionOptions opt;
+  opt.schemes = {"la-midpoint"};
+  opt.hs = {0.1, 0.05};
+  opt.baselines = {"odeint-rk4", "odeint-dopri5"};
+  opt.tols = {1e-6, 1e-8};
+  opt.reps = 1;
+  opt.measures = {"energy", "side=sin(q1)*v1"};
+  const auto study = work_precision_study(find_system("pendulum"), {{{"T", 4}}}, opt);
+  REQUIRE(d.rows.size() == study.points.size());
+  for (std::size_t i = 0; i < d.rows.size(); ++i) {
+    const WorkPoint& p = study.points[i];
+    INFO(p.method << " " << p.value);
+    CHECK(d.text(i, "method") == p.method);
+    CHECK(d.text(i, "energy_err") == format_cell(p.errors[1]));
+    CHECK(d.text(i, "side_err") == format_cell(p.errors[2]));
+    CHECK(p.errors[1] > 0);
+    CHECK(p.errors[2] > 0);
+  }
+  const auto s = plots::read_tsv(dir / "pendulum_work_precision_summary.tsv");
+  int energy = 0, side = 0;
+  for (std::size_t i = 0; i < s.rows.size(); ++i) {
+    energy += s.text(i, "measure") == "energy_err";
+    side += s.text(i, "measure") == "side_err";
+  }
+  CHECK(energy == side);
+  CHECK(energy >= 3);  // a time to target per method at least
+  std::ifstream in(dir / "pendulum_work_precision.tsv");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(text.find("side_err: max_k |Q(t_k, q_k, v_k) - Q(t_k, q_ref, v_ref)|") != std::string::npos);
+  CHECK(text.find("Q = sin(q1)*v1") != std::string::npos);
+  check_rejected("work_precision", "--system pendulum --measure 'x=q1 + y'", "unknown symbol 'y'");
 }

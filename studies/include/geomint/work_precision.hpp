@@ -152,7 +152,20 @@ struct WorkPrecisionOptions {
   // has by then (a decay rate off by d shows as d t). Where A_k is below relative_size_floor, t_k is not counted.
   // Needs the output grid (not at_steps).
   double relative_window = 0;
+  // Quantities measured along every run besides q, each as max_k |Q(t_k, q_k, q'_k) - Q(t_k, q_ref(t_k), q'_ref(t_k))|
+  // on the output grid t_k = t0 + k h-max (state_measures): "energy", "p<i>" (the momentum dL/dq'_i), or
+  // "<name>=<formula>" in t, q1.., v1.. and the system's parameters. Each is a column <name>_err after the errors
+  // in q. Needs the output grid (not at_steps).
+  std::vector<std::string> measures;
 };
+
+// A quantity of WorkPrecisionOptions::measures: its column and what it is, for a table's header.
+struct StateMeasure {
+  std::string column, doc;
+};
+// The measures `specs` name on `sys` (a formula checked at the system's defaults): InputError for an unknown kind,
+// a momentum the system has not, a formula that does not parse, a name given twice or one of the study's own.
+std::vector<StateMeasure> state_measures(const SystemInfo& sys, const std::vector<std::string>& specs);
 
 // Where the relative error stops being measurable: A_k < 1e-280 against a closed form (a double keeps no relative
 // accuracy below), A_k < 1e8 reference_tol against Odeint (its tolerance is absolute too: near it the reference has
@@ -167,7 +180,8 @@ const std::vector<std::string>& work_precision_baselines();
 struct WorkPrecisionStudy {
   std::string reference;         // what the errors are measured against (Reference::kind)
   double floor = 1e-13;          // the errors it resolves: above round-off (a closed form), or 100 times its tolerance
-  // errors = {the max error} (and the relative error with relative_window); group = the index of the combination
+  // errors = {the max error} (and the relative error with relative_window, then one per measure); group = the index of
+  // the combination
   std::vector<WorkPoint> points;
 };
 
