@@ -55,7 +55,9 @@ struct Structure {
   std::vector<std::array<double, 2>> drift;  // (t, constraint residual) at the turning points
 };
 
-// Turning points and the measures, fed with (t, q, v) at every step (or accepted step).
+// Turning points and the measures, fed with (t, q, v) at every step (or accepted step). The turning points and the
+// plane at each are the pendulum's one record of them (PlaneTurns, systems/foucault.hpp), as the system's own
+// measures and the diagnostics keep them; this study adds the amplitude and the drift of (13) there.
 class Probe {
  public:
   explicit Probe(const FoucaultParams<double>& p) : p_(p), b_(p.w2 - p.s * p.s) {}
@@ -63,7 +65,8 @@ class Probe {
     const double r = q.norm();
     const double scale = r * v.norm() + p_.s * r * r;
     if (scale > 0) cmax_ = std::max(cmax_, std::abs(foucault_constraint(p_, q, v)) / scale);
-    if (have_ >= 2 && is_turning_point(false, r_mm_, r_m_, r)) turn(t_m_, q_m_, v_m_);
+    // the point before this one, j = have_ - 1 >= 1 (the first point is never a turning point here)
+    if (have_ >= 2 && plane_.observe(have_ - 1, t_m_, r_mm_, q_m_(0), q_m_(1), r_m_, r, missing_value)) turn(q_m_, v_m_);
     r_mm_ = r_m_;
     r_m_ = r;
     t_m_ = t;
@@ -74,35 +77,34 @@ class Probe {
   Structure result(long steps) const {
     Structure s;
     s.steps = steps;
-    s.turns = static_cast<long>(ts_.size());
+    s.turns = static_cast<long>(plane_.turns.size());
     s.constraint = cmax_;
     s.drift = drift_;
-    if (ts_.size() < 3) return s;
+    if (plane_.turns.size() < 3) return s;
+    s.precession = std::abs(plane_.rate() + p_.s) / p_.s;
+    std::vector<double> ts;
+    for (const auto& k : plane_.turns) ts.push_back(k.t);
     double c0, c1, c00, c01, c11, ss;
-    gsl_fit_linear(ts_.data(), 1, th_.data(), 1, ts_.size(), &c0, &c1, &c00, &c01, &c11, &ss);
-    s.precession = std::abs(c1 + p_.s) / p_.s;
-    gsl_fit_linear(ts_.data(), 1, lq_.data(), 1, ts_.size(), &c0, &c1, &c00, &c01, &c11, &ss);
+    gsl_fit_linear(ts.data(), 1, lq_.data(), 1, ts.size(), &c0, &c1, &c00, &c01, &c11, &ss);
     s.decay = std::abs(-c1 - p_.alpha) / p_.alpha;
     return s;
   }
 
  private:
-  void turn(double t, const Vec2<double>& q, const Vec2<double>& v) {
+  // the amplitude and the drift at the turning point just recorded
+  void turn(const Vec2<double>& q, const Vec2<double>& v) {
     const double r2 = q.squaredNorm(), qv = q.dot(v);
-    double a = std::atan2(q(1), q(0));
-    if (!th_.empty()) a = line_angle(q(0), q(1), th_.back());
-    ts_.push_back(t);
-    th_.push_back(a);
     lq_.push_back(std::log(b_ * r2 + p_.alpha * qv + qv * qv / r2));
     const double scale = std::sqrt(r2) * v.norm() + p_.s * r2;
-    drift_.push_back({t, std::abs(foucault_constraint(p_, q, v)) / scale});
+    drift_.push_back({plane_.turns.back().t, std::abs(foucault_constraint(p_, q, v)) / scale});
   }
   FoucaultParams<double> p_;
   double b_;
   double cmax_ = 0, r_m_ = 0, r_mm_ = 0, t_m_ = 0;
   long have_ = 0;
   Vec2<double> q_m_, v_m_;
-  std::vector<double> ts_, th_, lq_;
+  PlaneTurns plane_;
+  std::vector<double> lq_;
   std::vector<std::array<double, 2>> drift_;
 };
 

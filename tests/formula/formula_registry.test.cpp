@@ -45,6 +45,21 @@ void same_as_header(const std::string& name, const ParamValues& pv, double h) {
   }
 }
 
+// A quartic oscillator (n = 1, no Herglotz Lagrangian): the pendulum file's shape with other formulas.
+std::shared_ptr<const formula::FormulaModel> quartic() {
+  return formula::compile_model([] {
+    formula::SystemDescription d;
+    d.name = "quartic";
+    d.coordinates = 1;
+    d.lagrangian = formula::formula_text("v1^2/2 - k*q1^4/4", "L");
+    d.parameters.push_back({"k", formula::formula_text("2", "parameter k"), "stiffness"});
+    d.parameters.push_back({"T", formula::formula_text("3", "parameter T"), "horizon"});
+    d.initial_q.push_back(formula::formula_text("1", "q1"));
+    d.initial_v.push_back(formula::formula_text("0", "v1"));
+    return d;
+  }());
+}
+
 }  // namespace
 
 TEST_CASE("a formula file's registry entry runs its header's bits", "[formula][registry]") {
@@ -85,17 +100,7 @@ TEST_CASE("a sleigh started at the origin: Newton stops at round-off on structur
 
 TEST_CASE("a formula entry's parameters, schemes and messages are its model's", "[formula][registry]") {
   // no Herglotz Lagrangian: no contact scheme offered
-  const auto model = formula::compile_model([] {
-    formula::SystemDescription d;
-    d.name = "quartic";
-    d.coordinates = 1;
-    d.lagrangian = formula::formula_text("v1^2/2 - k*q1^4/4", "L");
-    d.parameters.push_back({"k", formula::formula_text("2", "parameter k"), "stiffness"});
-    d.parameters.push_back({"T", formula::formula_text("3", "parameter T"), "horizon"});
-    d.initial_q.push_back(formula::formula_text("1", "q1"));
-    d.initial_v.push_back(formula::formula_text("0", "v1"));
-    return d;
-  }());
+  const auto model = quartic();
   const auto entry = formula::formula_system_info(model);
   CHECK(entry->scheme_names() == std::vector<std::string>{"la", "la-midpoint", "la-trapezoid"});
   REQUIRE(entry->params.size() == 2);
@@ -140,21 +145,12 @@ TEST_CASE("a shape the build does not compile is refused with one line naming th
 TEST_CASE("formula entries hold their models: a hundred at once, run from several threads", "[formula][registry]") {
   // two models of one shape (n = 1), told apart by their horizons and their motions
   const auto pendulum = formula::load_system_file(system_file("pendulum"));
-  const auto quartic = formula::compile_model([] {
-    formula::SystemDescription d;
-    d.name = "quartic";
-    d.coordinates = 1;
-    d.lagrangian = formula::formula_text("v1^2/2 - q1^4/4", "L");
-    d.parameters.push_back({"T", formula::formula_text("3", "parameter T"), "horizon"});
-    d.initial_q.push_back(formula::formula_text("1", "q1"));
-    d.initial_v.push_back(formula::formula_text("0", "v1"));
-    return d;
-  }());
+  const auto other = quartic();
   std::vector<std::shared_ptr<const SystemInfo>> alive;
-  for (int i = 0; i < 100; ++i) alive.push_back(formula::formula_system_info(i % 2 == 0 ? pendulum : quartic));
+  for (int i = 0; i < 100; ++i) alive.push_back(formula::formula_system_info(i % 2 == 0 ? pendulum : other));
   const ParamValues pv{{"T", 2}};
   const Run alone_p = formula::formula_system_info(pendulum)->run(pv, "la-midpoint", 0.05, Path::generic, 1);
-  const Run alone_q = formula::formula_system_info(quartic)->run(pv, "la-midpoint", 0.05, Path::generic, 1);
+  const Run alone_q = formula::formula_system_info(other)->run(pv, "la-midpoint", 0.05, Path::generic, 1);
   REQUIRE(alone_p.q != alone_q.q);
   std::vector<Run> runs(alive.size());
   std::vector<std::thread> threads;
