@@ -188,6 +188,20 @@ struct Combination {
   std::size_t n_errors() const { return (relative() ? 2 : 1) + quantities.size(); }
   // whether the study reads a run on the output grid t_k = k h_out
   bool on_grid() const { return relative() || !quantities.empty(); }
+  // The measures' Q along the reference at t_k = t0 + k h_out, [measure][k]: once for all the methods it is read by.
+  std::vector<std::vector<double>> ref_quantities{};
+  void quantity_reference() {
+    if (quantities.empty() || ref_failure) return;
+    const double t0 = sys.initial_time ? sys.initial_time(pv) : 0.0;
+    const long N_out = step_count(h_out, T);
+    ref_quantities.assign(quantities.size(), std::vector<double>(static_cast<std::size_t>(N_out + 1)));
+    for (long k = 0; k <= N_out; ++k) {
+      const long i = ref.index(k, h_out);
+      const std::size_t at = static_cast<std::size_t>(i * n);
+      for (std::size_t m = 0; m < quantities.size(); ++m)
+        ref_quantities[m][static_cast<std::size_t>(k)] = quantities[m](t0 + static_cast<double>(i) * ref.h, &ref.q[at], &ref.v[at]);
+    }
+  }
   void size_reference() {
     if (!relative() || ref_failure) return;
     size_floor = relative_size_floor(sys, opt);
@@ -228,10 +242,8 @@ struct Combination {
     const Combination& c;
     std::vector<double> worst = std::vector<double>(c.quantities.size(), 0.0);
     void add(long k, double t, const double* q, const double* v) {
-      if (c.quantities.empty()) return;
-      const std::size_t i = static_cast<std::size_t>(c.ref.index(k, c.h_out) * c.n);
       for (std::size_t m = 0; m < c.quantities.size(); ++m) {
-        const double d = std::abs(c.quantities[m](t, q, v) - c.quantities[m](t, &c.ref.q[i], &c.ref.v[i]));
+        const double d = std::abs(c.quantities[m](t, q, v) - c.ref_quantities[m][static_cast<std::size_t>(k)]);
         if (!std::isfinite(d))
           throw NumericalFailure(k, c.opt.measures[m], "the measure is not finite at t = " + show(t));
         worst[m] = std::max(worst[m], d);
@@ -412,6 +424,7 @@ WorkPrecisionStudy work_precision_study(const SystemInfo& sys, const std::vector
     }
     k.size_reference();
     for (const auto& m : parse_measures(sys, opt.measures)) k.quantities.push_back(quantity_at(sys, pv, m));
+    k.quantity_reference();
     // a watched call's progress (interrupt.hpp): the points of this combination
     Task task("work_precision", "points",
               static_cast<double>(opt.hs.size() * (opt.schemes.size() + opt.baselines.size()) +
