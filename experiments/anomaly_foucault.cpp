@@ -1,7 +1,7 @@
 // Where the Foucault schemes fail: the plane-jump anomaly of Section 3.2 measured on
 // ensembles instead of one run, its cause tested against a prediction from the discrete constraint, the
 // worst cases rerun in long double and quad precision, and the remedy (the "rotation" discretization of
-// (13), foucault.hpp) measured with the same ensembles.
+// (13), systems/foucault/steps.hpp) measured with the same ensembles.
 //   anomaly_foucault [--runs 1000] [--h 0.1 0.05 0.02 0.01 0.005] [--alpha 1e-3 1e-4] [--T 3600]
 //                    [--schemes la-nh contact-nh] [--systems foucault foucault-rotation] [--threads <cores>]
 //                    [--record-deg 0.1] [--worst 3] [--quad-full-steps 200000] [--out out]

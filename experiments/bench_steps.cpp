@@ -25,6 +25,7 @@
 #include "geomint/systems/kepler.hpp"
 #include "geomint/systems/oscillator.hpp"
 #include "geomint/timing.hpp"
+#include "paper_restatements.hpp"
 
 using namespace geomint;
 namespace odeint = boost::numeric::odeint;
@@ -180,7 +181,7 @@ int main(int argc, char** argv) {
         Vec2<double> qm = qm0, q = q0, qn;
         double acc = 0;
         for (long j = 0; j < Np; ++j) {
-          const auto ls = systems::Foucault::La::system(fp, qm, q, hp);
+          const auto ls = testing::paper_system<systems::Foucault::La>(fp, qm, q, hp);
           const Eigen::Vector3d sol = Eigen::PartialPivLU<Eigen::Matrix3d>(ls.A).solve(ls.b);
           qn = sol.head<2>();
           acc += sol(2);

@@ -5,8 +5,8 @@
 // angle theta0 - Omega sin(beta) t at every turning point.
 //   fig2_foucault [--h 0.1 0.005] [--alpha 1e-3 1e-4] [--T 3600] [--start legendre] [--sample-dt 2]
 //                 [--system foucault] [--out out]
-// --system foucault-rotation runs the remedy of foucault.hpp (the rotation discretization of (13)) instead of the
-// paper's third row of (15)/(18); its files are named fig2_foucault_rotation* so they sit next to the paper's.
+// --system foucault-rotation runs the remedy (the rotation discretization of (13), systems/foucault/steps.hpp)
+// instead of the paper's third row of (15)/(18); its files are named fig2_foucault_rotation* so they sit next to the paper's.
 // For the first h writes out/fig2_foucault.tsv (decimated samples: every sample-dt seconds and every
 // turning point, plus closed-form reference rows), out/fig2_foucault_summary.tsv (one row per scheme and
 // alpha), out/fig2_foucault.{png,pdf} and out/fig2_foucault_plane.{png,pdf}, all drawn from the TSV;

@@ -85,10 +85,10 @@ void literal_rows(const Literal& P, double h, const Vec2<double>& a, const Vec2<
 // Rows 1-2 of (15) or (18) with the force along n(phi_j) instead of A(q_j), and the row n(phi_{j+1}).q_{j+1} of
 // the rotation discretization (foucault-rotation), at (q_{j-1}, q_j, q_{j+1}, lambda_1).
 template <class Scheme, class T>
-Vec3<T> rotation_rows(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, const Vec2<T>& qn, T lambda1, T h,
+Eigen::Matrix<T, 3, 1> rotation_rows(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, const Vec2<T>& qn, T lambda1, T h,
                       const FoucaultLine<T>& L, const FoucaultLine<T>& Ln) {
   const T xm = qm(0), ym = qm(1), x = q(0), y = q(1), xn = qn(0), yn = qn(1);
-  Vec3<T> r;
+  Eigen::Matrix<T, 3, 1> r;
   if constexpr (std::is_same_v<Scheme, systems::FoucaultPendulum::La>) {
     r(0) = (-xn + 2 * x - xm) / h - h * p.w2 * x - p.alpha * (xn - x) - lambda1 * L.n(0) / p.m;
     r(1) = (-yn + 2 * y - ym) / h - h * p.w2 * y - p.alpha * (yn - y) - lambda1 * L.n(1) / p.m;
@@ -100,12 +100,51 @@ Vec3<T> rotation_rows(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<
   return r;
 }
 
-// The rotation step's 3x3 system: the paper's (the closed form's system()) with the force column -n(phi_j)/m and
+// ---- the Foucault pendulum's steps (15), (18) as printed: the literal 3x3 linear system of one step in the
+// unknowns z = (x_{j+1}, y_{j+1}, lambda_1), for the closed forms' cross-check and the PartialPivLU benchmark
+// (experiments/bench_steps.cpp)
+
+template <class T>
+struct LinearStep {
+  Eigen::Matrix<T, 3, 3> A;
+  Eigen::Matrix<T, 3, 1> b;
+};
+
+// (15) (Scheme = FoucaultPendulum::La) or (18) (::Contact) as a linear system in (x_{j+1}, y_{j+1}, lambda_1).
+template <class Scheme, class T>
+LinearStep<T> paper_system(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h) {
+  if constexpr (std::is_same_v<Scheme, systems::FoucaultPendulum::La>) {
+    const T xm = qm(0), ym = qm(1), x = q(0), y = q(1);
+    const T c = 1 / h + p.alpha;
+    LinearStep<T> ls;
+    ls.A << -c, 0, y / p.m,  //
+        0, -c, -x / p.m,     //
+        -y / h, x / h, 0;
+    ls.b << -(2 * x - xm) / h + h * p.w2 * x - p.alpha * x,  //
+        -(2 * y - ym) / h + h * p.w2 * y - p.alpha * y,      //
+        -p.s * (x * x + y * y);
+    return ls;
+  } else {
+    static_assert(std::is_same_v<Scheme, systems::FoucaultPendulum::Contact>, "(15) or (18)");
+    const T xm = qm(0), ym = qm(1), x = q(0), y = q(1);
+    const T k = 1 / (h * h);
+    LinearStep<T> ls;
+    ls.A << -k, 0, y / p.m,  //
+        0, -k, -x / p.m,     //
+        -y / h, x / h, 0;
+    ls.b << -(2 * x - xm) * k + p.w2 * x + p.alpha * ((x - xm) / h - h * p.w2 / 2 * x),  //
+        -(2 * y - ym) * k + p.w2 * y + p.alpha * ((y - ym) / h - h * p.w2 / 2 * y),      //
+        -p.s * (x * x + y * y);
+    return ls;
+  }
+}
+
+// The rotation step's 3x3 system: the paper's (paper_system) with the force column -n(phi_j)/m and
 // the constraint row n(phi_{j+1}).q_{j+1} = 0.
 template <class Scheme, class T>
 LinearStep<T> rotation_system(const FoucaultParams<T>& p, const Vec2<T>& qm, const Vec2<T>& q, T h,
                               const FoucaultLine<T>& L, const FoucaultLine<T>& Ln) {
-  LinearStep<T> ls = Scheme::system(p, qm, q, h);
+  LinearStep<T> ls = paper_system<Scheme>(p, qm, q, h);
   ls.A(0, 2) = -L.n(0) / p.m;
   ls.A(1, 2) = -L.n(1) / p.m;
   ls.A(2, 0) = Ln.n(0);

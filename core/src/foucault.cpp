@@ -1,4 +1,5 @@
-// The out-of-line parts of the Foucault pendulum's systems (core/include/geomint/systems/foucault.hpp).
+// The out-of-line parts of the Foucault pendulum (core/include/geomint/systems/foucault/): the plane record's fit,
+// the measures, the reference, the start, the sweep check.
 #include "geomint/systems/foucault.hpp"
 
 #include <cmath>

@@ -4,7 +4,7 @@
 //                   turning points (local maxima of |q| along the run) fitted against t (GSL); exactly -s t + c.
 //   decay_err       |alpha_fit - alpha| / alpha from log Q_r at the turning points, Q_r = b r^2 + alpha r r' + r'^2,
 //                   b = w2 - s^2, r r' = q.v, r'^2 = (q.v)^2/|q|^2: the signed radius obeys r'' = -b r - alpha r',
-//                   so Q_r decays exactly as e^{-alpha t} (foucault.hpp, foucault_exact).
+//                   so Q_r decays exactly as e^{-alpha t} (systems/foucault/exact.hpp, foucault_exact).
 //   constraint_err  max over the run of |Phi(q, v)| / (|q| |v| + s |q|^2), (13) in the continuous variables. For the
 //                   ODE methods v is their state (this is the drift of (13)); for the schemes v = (q_{j+1} - q_{j-1})/2h.
 //   discrete_err    the schemes' own discrete constraint (paper: |Phi_d| / its round-off scale; rotation:
@@ -12,7 +12,7 @@
 //   own_constraint_err  the constraint each method imposes: discrete_err for the schemes, constraint_err for the
 //                   ODE methods (which impose (13) only through its derivative, so its value drifts).
 // Methods: la-nh and contact-nh with the paper's constraint and with 'rotation', and Odeint rk4 over h; on the
-// Lagrange–d'Alembert multiplier ODE (foucault.hpp) Odeint dopri5 and Bulirsch–Stoer and GSL rk8pd over tolerance
+// Lagrange–d'Alembert multiplier ODE (systems/foucault/exact.hpp) Odeint dopri5 and Bulirsch–Stoer and GSL rk8pd over tolerance
 // (rel = tol, abs = 1e-8 tol in m and m/s, so the control stays relative while the amplitude decays by e^-18 in
 // 10 h). A run that fails is a missing value with a message.
 //   long_horizon --system foucault [--alpha 1e-3] [--T 3600] [--h 0.1 0.05 0.025] [--tol 1e-6 1e-8 1e-10] [--reps 3] [--out out]
@@ -56,7 +56,7 @@ struct Structure {
 };
 
 // Turning points and the measures, fed with (t, q, v) at every step (or accepted step). The turning points and the
-// plane at each are the pendulum's one record of them (PlaneTurns, systems/foucault.hpp), as the system's own
+// plane at each are the pendulum's one record of them (PlaneTurns, systems/foucault/plane.hpp), as the system's own
 // measures and the diagnostics keep them; this study adds the amplitude and the drift of (13) there.
 class Probe {
  public:

@@ -14,7 +14,7 @@
 #include <tuple>
 
 // Quad precision: Boost.Multiprecision's header-only IEEE binary128 emulation (113-bit significand,
-// expression templates off), with its Eigen interop (NumTraits etc.) so Vec2<quad> and Mat3<quad> work.
+// expression templates off), with its Eigen interop (NumTraits etc.) so Vec2<quad> works.
 #include <boost/multiprecision/cpp_bin_float.hpp>
 #include <boost/multiprecision/eigen.hpp>
 

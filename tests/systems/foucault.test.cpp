@@ -121,7 +121,7 @@ TEMPLATE_TEST_CASE("the discrete constraint holds to round-off at every step", "
   }
 }
 
-TEMPLATE_TEST_CASE("system() is the literal 3x3 system and the closed form equals its PartialPivLU solve",
+TEMPLATE_TEST_CASE("paper_system is the literal 3x3 system and the closed form equals its PartialPivLU solve",
                    "[foucault][step]", LaNh, ContactNh) {
   const auto sc = scene(1e-4, 3600);
   const double h = 0.1;
@@ -132,7 +132,7 @@ TEMPLATE_TEST_CASE("system() is the literal 3x3 system and the closed form equal
   for (long j = 0; j + 1 < static_cast<long>(tr.q.size()) - 1; ++j) {
     const auto& qm = tr.at(j - 1);
     const auto& q = tr.at(j);
-    const auto ls = TestType::system(p, qm, q, h);
+    const auto ls = paper_system<TestType>(p, qm, q, h);
     // A z - b is the printed rows at z, for any z: here at the closed-form solution and at a perturbed one.
     for (double shift : {0.0, 1e-3}) {
       const Eigen::Vector3d z(tr.at(j + 1)(0) + shift, tr.at(j + 1)(1) - shift,

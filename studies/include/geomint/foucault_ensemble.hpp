@@ -2,7 +2,7 @@
 // Where the Foucault schemes fail: an anomaly detector for one run, ensembles of runs
 // that turn single observations into probabilities, and reruns of the worst cases in wider precisions.
 //
-// The anomaly (derived in systems/foucault.hpp, "Two discretizations of the constraint (13)"): with the paper's
+// The anomaly (derived in systems/foucault/steps.hpp, "Two discretizations of the constraint (13)"): with the paper's
 // discrete constraint the step into a point q_L satisfies q_{L-1} x q_L = -s h |q_{L-1}|^2, so the line of
 // the plane turns, in that one step, by
 //     kappa_L = asin( -sigma s h |q_{L-1}| / |q_L| ),   sigma = sign(q_{L-1} . q_L)
