@@ -2,8 +2,9 @@
 #
 # geomint_registry_systems(VAR): the systems of core/src/systems.def, one "header:Type" per
 #   GEOMINT_SYSTEM(header, Type) line (the header must exist under core/include/geomint/systems/).
-# geomint_formula_shapes(VAR): the shapes the build compiles, one "n:m:h:modified" per
-#   GEOMINT_FORMULA_SHAPE(n, m, holonomic 0/1, modified equations 0/1) line of core/src/formula/shapes.def, and the
+# geomint_formula_shapes(VAR): the shapes the build compiles, one "n:m:h:modified:light" per
+#   GEOMINT_FORMULA_SHAPE(n, m, holonomic 0/1, modified equations 0/1) line of core/src/formula/shapes.def (n <= 12,
+#   m <= 6 and m < n, as the reader takes them: formula/model.hpp; light 1 when the line says "// light"), and the
 #   same lines in generated/formula/shapes_compiled.def, which the registries include. A sanitizer build that compiles
 #   its own template units compiles only the shapes with modified equations: the ones its tests use; the others are
 #   the same templates at other sizes. One that takes them from a release build (below) has them all.
@@ -33,13 +34,26 @@ function(geomint_formula_shapes var)
   set(items "")
   set(compiled "")
   foreach(line ${lines})
-    if(NOT line MATCHES "^GEOMINT_FORMULA_SHAPE\\(([1-4]), *([0-2]), *([01]), *([01])\\)")
-      message(FATAL_ERROR "shapes.def: cannot read '${line}' (expected GEOMINT_FORMULA_SHAPE(n, m, 0 or 1, 0 or 1))")
+    set(shape_ok OFF)
+    if(line MATCHES "^GEOMINT_FORMULA_SHAPE\\(([1-9]|1[0-2]), *([0-6]), *([01]), *([01])\\)")
+      if(CMAKE_MATCH_2 LESS CMAKE_MATCH_1 AND NOT (CMAKE_MATCH_2 EQUAL 0 AND CMAKE_MATCH_3 EQUAL 1))
+        set(shape_ok ON)
+      endif()
+    endif()
+    if(NOT shape_ok)
+      message(FATAL_ERROR "shapes.def: cannot read '${line}' (expected GEOMINT_FORMULA_SHAPE(n, m, holonomic, modified): "
+                          "n = 1..12 coordinates, m = 0..6 rows and fewer than n, holonomic 1 only with rows, modified 0 or 1)")
     endif()
     if(GEOMINT_SANITIZE AND NOT GEOMINT_TEMPLATE_UNITS_FROM AND CMAKE_MATCH_4 STREQUAL "0")
       continue()
     endif()
-    list(APPEND items "${CMAKE_MATCH_1}:${CMAKE_MATCH_2}:${CMAKE_MATCH_3}:${CMAKE_MATCH_4}")
+    set(shape "${CMAKE_MATCH_1}:${CMAKE_MATCH_2}:${CMAKE_MATCH_3}:${CMAKE_MATCH_4}")
+    string(FIND "${line}" "// light" light_at)  # not MATCHES: it would clear the shape's matches
+    if(light_at GREATER -1)
+      list(APPEND items "${shape}:1")
+    else()
+      list(APPEND items "${shape}:0")
+    endif()
     string(APPEND compiled "${line}\n")
   endforeach()
   # rewritten only when it changes, so that a reconfiguration recompiles nothing

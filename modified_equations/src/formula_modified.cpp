@@ -53,7 +53,9 @@ std::shared_ptr<const ModifiedSystem> formula_modified_system(std::shared_ptr<co
   require(index < shapes().size(),
           "system '" + model->name + "' has n = " + std::to_string(model->n) + ", m = " + std::to_string(model->m) +
               (model->holonomic ? " (holonomic)" : "") + ": this build compiles the modified equations of formula systems of the shapes " +
-              marked + " (core/src/formula/shapes.def marks a shape for them)");
+              marked + " (a 1 in the last column of the shape's line in core/src/formula/shapes.def, GEOMINT_FORMULA_SHAPE(" +
+              std::to_string(model->n) + ", " + std::to_string(model->m) + ", " + (model->holonomic ? "1" : "0") +
+              ", 1), and a rebuild add them)");
   ModifiedSystem entry = shapes()[index].make(model);
   entry.has_herglotz = model->has_herglotz();
   if (!model->has_herglotz())  // the core's contact schemes are the ones named contact*

@@ -267,6 +267,19 @@ TEST_CASE("bad system files are refused with one line naming the place", "[formu
   const std::string sys = "[system]\nname = s\ncoordinates = 2\n[parameters]\nalpha = 0.1\nT = 1\n";
   const std::string init = "[initial]\nq1 = 0\nq2 = 0\nv1 = 1\nv2 = 0\n";
   const std::string L = "[dynamics]\nL = v1*v1/2 + v2*v2/2\n";
+  // coordinates = N with every initial datum given: the shape is what is refused
+  auto coordinates = [](int N) {
+    std::string s = "[system]\nname = s\ncoordinates = " + std::to_string(N) + "\n[parameters]\nT = 1\n[dynamics]\nL = v1\n[initial]\n";
+    for (int i = 1; i <= N; ++i) s += "q" + std::to_string(i) + " = 0\nv" + std::to_string(i) + " = 0\n";
+    return s;
+  };
+  auto rows = [](int N, int M) {
+    std::string s = "[system]\nname = s\ncoordinates = " + std::to_string(N) + "\n[parameters]\nT = 1\n[dynamics]\nL = v1\n[constraints]\n";
+    for (int i = 1; i <= M; ++i) s += "phi" + std::to_string(i) + " = v" + std::to_string(i) + "\n";
+    s += "[initial]\n";
+    for (int i = 1; i <= N; ++i) s += "q" + std::to_string(i) + " = 0\nv" + std::to_string(i) + " = 0\n";
+    return s;
+  };
   const std::vector<Case> cases = {
       {sys + "[dynamics]\nL = v1*v1/2 + alpah*v2\n" + init, "test.geomint:8:15: L: unknown symbol 'alpah' (did you mean 'alpha'?)"},
       {sys + "[dynamics]\nL = v1*v1/2 + (v2*v2\n" + init, "test.geomint:8:15: L: '(' is never closed"},
@@ -282,12 +295,12 @@ TEST_CASE("bad system files are refused with one line naming the place", "[formu
       {sys + L + "[constraints]\nphi1 = q1 - 1\n" + init, "phi1 has no velocity in it: a constraint on the positions is written as a holonomic row g1"},
       {sys + L + "[constraints]\ng1 = q1*v1\n" + init, "test.geomint:10: g1 depends on the velocities"},
       {sys + L + "[constraints]\nphi1 = v1\ng2 = q1\n" + init, "constraints mix phi (linear in the velocities) and g (holonomic) rows"},
-      {sys + L + "[constraints]\nphi1 = v1\nphi2 = v2\n" + init, "test.geomint:11: phi2: 2 constraint rows with 2 coordinates: formula systems have at most 2 rows, and fewer rows than coordinates"},
+      {sys + L + "[constraints]\nphi1 = v1\nphi2 = v2\n" + init, "test.geomint:11: phi2: 2 constraint rows with 2 coordinates: formula systems have at most 6 rows, and fewer rows than coordinates"},
       {sys + L + "[constraints]\nphi1 = atan2(q1, q2)*v1 + v2\n" + init, "phi1 takes atan2 of q1, q2: atan2 is available for parameters and initial data only"},
       {sys + L + "[initial]\nq1 = t\nq2 = 0\nv1 = 1\nv2 = 0\n", "test.geomint:10: initial q1 is not constant: initial data are numbers, parameters and definitions of parameters (it uses t)"},
       {sys + L + "[initial]\nq1 = 0\nv1 = 1\nv2 = 0\n", "test.geomint: [initial] has no q2 (give q1..q2 and v1..v2)"},
-      {"[system]\nname = s\ncoordinates = 5\n[parameters]\nT = 1\n[dynamics]\nL = v1\n[initial]\nq1=0\nq2=0\nq3=0\nq4=0\nq5=0\nv1=0\nv2=0\nv3=0\nv4=0\nv5=0\n",
-       "test.geomint: coordinates = 5: formula systems have 1 to 4 coordinates"},
+      {coordinates(13), "test.geomint: coordinates = 13: formula systems have 1 to 12 coordinates"},
+      {rows(9, 7), "phi7: 7 constraint rows with 9 coordinates: formula systems have at most 6 rows, and fewer rows than coordinates"},
       {"[system]\nname = s\ncoordinates = 2\n[parameters]\nalpha = 0.1\n" + L + init, "no parameter T (the horizon)"},
       {"[system]\nname = s\ncoordinates = 2\n[parameters]\nalpha = 0.1*q1\nT = 1\n" + L + init,
        "test.geomint:5:13: parameter alpha: a parameter's default is a number (or a formula of numbers and pi), not 'q1'"},

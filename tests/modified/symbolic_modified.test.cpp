@@ -243,6 +243,67 @@ TEST_CASE("formulas equal the numbers at random points, every registered system 
   CHECK(systems_checked >= 1);
 }
 
+TEST_CASE("a chain of six pendula (n = 6): its formulas F_0, F_1 equal the numbers, F_0 its equations written by hand",
+          "[symbolic][shapes]") {
+  // The first shape beyond n = 4 (docs/systems/pendulum-chain.geomint): the modified equation of each first-order
+  // scheme as formulas, read back and evaluated at random points in exact arithmetic, against the numeric engine
+  // there; order 0 against q_i'' = -g sin q_i - k (2 q_i - q_(i-1) - q_(i+1)) - alpha q_i'. la-midpoint is
+  // symmetric: its F_1 vanishes identically.
+  const auto model = formula::load_system_file(std::string(GEOMINT_SOURCE_DIR) + "/docs/systems/pendulum-chain.geomint");
+  const auto ms = formula_modified_system(model);
+  const double g = model->parameters[std::size_t(model->parameter_index("g"))].value,
+               k = model->parameters[std::size_t(model->parameter_index("k"))].value,
+               alpha = model->parameters[std::size_t(model->parameter_index("alpha"))].value;
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> U(-0.9, 0.9);
+  for (const char* scheme : {"la", "contact", "la-midpoint"}) {
+    const ModifiedFormulas f = ms->formulas({}, scheme, 1, 60, false);
+    REQUIRE(f.K == 1);
+    for (int trial = 0; trial < 2; ++trial) {
+      GiNaC::symtab table;
+      GiNaC::lst point;
+      std::vector<double> q, v;
+      const double t = U(rng), z = U(rng);
+      auto set = [&](const std::string& name, double x) {
+        if (!table.count(name)) table[name] = GiNaC::symbol(name);
+        point.append(table[name] == exact_rational(x));
+      };
+      set("t", t);
+      set("z", z);
+      for (int i = 0; i < 6; ++i) {
+        q.push_back(U(rng));
+        v.push_back(U(rng));
+        set("q" + std::to_string(i + 1), q.back());
+        set("v" + std::to_string(i + 1), v.back());
+      }
+      for (const auto& [name, x] : f.values) set(name, x);
+      const ModifiedPoint P = ms->at({}, scheme, 1, t, q, v, z, false);
+      int compared = 0;
+      double F1 = 0;
+      for (const auto& row : f.rows) {
+        if (row.quantity.size() != 2 || row.quantity[0] != 'F') continue;  // F1..F6
+        const int i = row.quantity[1] - '1';
+        const double x = number(parse_formula(row.text, f.symbols, table).subs(point));
+        INFO(scheme << " " << row.quantity << " k " << row.k << ": " << row.text);
+        CHECK(x == Approx(P.F_at(row.k, i)).epsilon(1e-10).margin(1e-12 * (std::abs(P.F_at(0, i)) + 1)));
+        if (row.k == 0) {
+          const auto qi = [&](int j) { return q[std::size_t(j)]; };
+          const double spring = (i > 0 ? qi(i) - qi(i - 1) : 0.0) + (i < 5 ? qi(i) - qi(i + 1) : 0.0);
+          CHECK(x == Approx(-g * std::sin(qi(i)) - k * spring - alpha * v[std::size_t(i)]).epsilon(1e-12).margin(1e-14));
+        } else {
+          F1 = std::max(F1, std::abs(x));
+        }
+        ++compared;
+      }
+      CHECK(compared == 12);  // F_0 and F_1 of each coordinate (a row that vanishes is printed as 0)
+      if (std::string(scheme) == "la-midpoint")
+        CHECK(F1 == 0);
+      else
+        CHECK(F1 > 1e-6);  // a first-order scheme's F_1 is there to compare (contact's is O(alpha): about 8e-4)
+    }
+  }
+}
+
 TEST_CASE("formulas: sympy reads the text as the numbers", "[symbolic][sympy]") {
   // The pendulum's contact formulas as modified_equation --formulas prints them, read by sympy (sympify, the
   // symbols declared) and evaluated at a point, against the numeric engine there: the printed syntax means in

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "geomint/error.hpp"
-#include "geomint/formula/formula_system.hpp"
+#include "geomint/formula/checks.hpp"
 #include "geomint/formula/time_transform.hpp"
 
 namespace geomint::formula {
@@ -37,11 +37,16 @@ const std::vector<Shape>& shapes() {
 
 }  // namespace
 
+// The warnings depend on the model and its parameters, not on its shape: any shape, compiled or not.
 std::vector<std::string> formula_warnings(const std::shared_ptr<const FormulaModel>& model, const ParamValues& values) {
-  return with_formula_system(model, [&](auto sys) {
-    for (const auto& [name, x] : values) sys.set_parameter(name, x);
-    return sys.warnings();
-  });
+  require(model != nullptr, "formula system without a model");
+  for (const auto& [name, x] : values)
+    require(model->parameter_index(name) >= 0,
+            "system '" + model->name + "' has no parameter '" + name + "' (known: " + model->parameter_names() + ")");
+  if (model->strict_herglotz) return {};  // an inconsistent form was refused as an error instead
+  std::string why = herglotz_mismatch(*model, parameter_table(*model, values));
+  if (why.empty()) return {};
+  return {std::move(why)};
 }
 
 bool contact_family(const SystemInfo& sys, const std::string& scheme) {
@@ -97,8 +102,11 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
   }
   require(index < shapes().size(),
           "system '" + model->name + "' has n = " + std::to_string(model->n) + ", m = " + std::to_string(model->m) +
-              (model->holonomic ? " (holonomic)" : "") + ": this build compiles formula systems of the shapes " +
-              compiled_formula_shapes() + " (one line in core/src/formula/shapes.def adds a shape)");
+              (model->holonomic ? " (holonomic)" : "") + (model->time_transformed ? " (n counts the time t of its time transformation)" : "") +
+              ": this build compiles formula systems of the shapes " +
+              compiled_formula_shapes() + " (the line GEOMINT_FORMULA_SHAPE(" + std::to_string(model->n) + ", " +
+              std::to_string(model->m) + ", " + (model->holonomic ? "1" : "0") +
+              ", 1) in core/src/formula/shapes.def and a rebuild add it, with its modified equations)");
   SystemInfo entry = shapes()[index].make(model);
   // The shape's code is compiled for every model of its shape: what it cannot know of this model is set here.
   entry.has_herglotz = model->has_herglotz();

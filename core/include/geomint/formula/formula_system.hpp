@@ -5,8 +5,10 @@
 // or a symbolic type (then the parameters are symbols, and every derived value and every evaluation is symbolic).
 //
 // The core needs n and m at compile time (fixed-size Eigen types: no allocation in a step), so a formula system is
-// one type per shape; with_formula_system() picks the type for a model's shape at run time. The shapes:
-// n = 1..4 coordinates, m = 0..min(2, n - 1) rows, the rows linear in the velocities or holonomic — 14 types.
+// one type per shape: n = 1..12 coordinates, m = 0..min(6, n - 1) rows, the rows linear in the velocities or
+// holonomic. The registry compiles the shapes core/src/formula/shapes.def lists (every one up to n = 4, m = 2, and
+// more on a line each); with_formula_system() picks, at run time, among those up to n = 4, m = 2, for the code that
+// needs a model's type (tests).
 //
 // Compared with a system header, every member is present: a model without a Herglotz Lagrangian throws
 // InputError from herglotz() (the contact schemes need one: has_herglotz() says, at run time, whether it has
@@ -37,7 +39,7 @@ struct FormulaConstant {
 
 template <int N, int M = 0, bool Holonomic = false, class P = double>
 class FormulaSystemT {
-  static_assert(supported_shape(N, M), "formula systems have 1..4 coordinates and 0..min(2, n - 1) constraint rows");
+  static_assert(supported_shape(N, M), "formula systems have 1..12 coordinates and 0..min(6, n - 1) constraint rows");
   static_assert(M > 0 || !Holonomic, "a holonomic formula system has at least one constraint row");
 
  public:
@@ -309,8 +311,8 @@ decltype(auto) with_formula_system(const std::shared_ptr<const FormulaModel>& mo
   GEOMINT_FORMULA_SHAPE(4, 2, false)
   GEOMINT_FORMULA_SHAPE(4, 2, true)
 #undef GEOMINT_FORMULA_SHAPE
-  throw InputError("system '" + model->name + "': no formula system of shape n = " + std::to_string(n) +
-                   ", m = " + std::to_string(m));
+  throw InputError("system '" + model->name + "': with_formula_system takes the shapes up to n = 4, m = 2, not n = " +
+                   std::to_string(n) + ", m = " + std::to_string(m) + " (a registry entry takes every compiled shape)");
 }
 
 }  // namespace geomint::formula

@@ -21,9 +21,12 @@
 
 namespace geomint::formula {
 
-// The shapes formula systems come in: n coordinates, m constraint rows (velocity or holonomic).
-inline constexpr int max_coordinates = 4;
-inline constexpr int max_constraints = 2;
+// The shapes formula systems come in: n coordinates, m < n constraint rows (velocity or holonomic). The reader takes
+// every shape up to these; a registry entry needs its shape compiled (core/src/formula/shapes.def, one line a shape).
+// 12 and 6: the expression graph's variables (t, q, v, z) fit its 32-bit masks up to n = 15, and a chain of six bodies
+// or a rolling ball with its full configuration needs no more.
+inline constexpr int max_coordinates = 12;
+inline constexpr int max_constraints = 6;
 // The parameter a time-transformed model adds: the stiffness kappa of its penalty (kappa/2)(t' - g)^2.
 inline constexpr const char* time_transform_kappa = "tt_kappa";
 constexpr bool supported_shape(int n, int m) { return n >= 1 && n <= max_coordinates && m >= 0 && m <= max_constraints && m < n; }
