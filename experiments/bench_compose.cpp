@@ -15,10 +15,10 @@
 
 #include "bench_table.hpp"
 #include "geomint/cli.hpp"
-#include "geomint/composition_registry.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/io.hpp"
+#include "geomint/registry.hpp"
 
 using namespace geomint;
 
@@ -58,20 +58,20 @@ int main(int argc, char** argv) {
     const auto& families = generic::composition_families();
     std::map<std::string, double> updates;  // Newton updates per call, by case name
     for (const auto& c : cases) {
-      const CompositionInfo* comp = &find_compositions(c.system);
+      const SystemInfo* sys = &find_system(c.system);
       std::map<double, bool> lone_done;
       for (const auto& fam : families) {
         const std::string name = generic::composition_name(fam.name, c.base);
         const std::string cname = "compose " + c.system + " " + name + " h=" + show(c.h);
-        table.add(c.system, cname, double(N), [comp, name, c, N] { comp->steps({}, name, c.h, N); });
-        updates[cname] = double(comp->steps({}, name, c.h, N));
+        table.add(c.system, cname, double(N), [sys, name, c, N] { sys->composition_steps({}, name, c.h, N); });
+        updates[cname] = double(sys->composition_steps({}, name, c.h, N));
         for (const long double w : fam.weights) {
           const double step = std::abs(static_cast<double>(w * static_cast<long double>(c.h)));
           if (lone_done[step]) continue;
           lone_done[step] = true;
           const std::string lname = lone_name(c, step);
-          table.add(c.system, lname, double(N), [comp, c, step, N] { comp->base_steps({}, c.base, step, N); });
-          updates[lname] = double(comp->base_steps({}, c.base, step, N));
+          table.add(c.system, lname, double(N), [sys, c, step, N] { sys->base_steps({}, c.base, step, N); });
+          updates[lname] = double(sys->base_steps({}, c.base, step, N));
         }
       }
     }

@@ -170,13 +170,12 @@ int main(int argc, char** argv) {
         "budget", po::value(&budget)->default_value(budget), "time budget of the formulas, seconds per scheme");
     if (!cli.parse(argc, argv)) return 0;
 
-    // A system file: the modified equations of its shape, alive to the end.
+    // A system file's entry holds its model: the modified equations of its shape, alive to the end.
     const auto& info = sys_opts.system();
     const std::string& system_file = sys_opts.system_file();
     const std::string system = info.name;
-    std::shared_ptr<const ModifiedSystem> file_ms;
-    if (!system_file.empty()) file_ms = formula_modified_system(formula::load_system_file(system_file));
-    const auto& ms = file_ms ? *file_ms : find_modified_system(system);
+    const auto me = modified_system(info);
+    const ModifiedSystem& ms = *me;
     if (on_constraint) {
       require(formulas, "--on-constraint is a form of the formulas: give --formulas with it");
       require(info.constraints > 0 && !ms.holonomic,

@@ -98,13 +98,7 @@ class System {
   bool is_formula() const { return model_ != nullptr; }
 
   const modified::ModifiedSystem& modified() const {
-    if (!modified_) {
-      if (model_)
-        modified_ = modified::formula_modified_system(model_);
-      else
-        modified_ = std::shared_ptr<const modified::ModifiedSystem>(std::shared_ptr<const modified::ModifiedSystem>(),
-                                                                     &modified::find_modified_system(info_->name));
-    }
+    if (!modified_) modified_ = modified::modified_system(*info_);
     return *modified_;
   }
 

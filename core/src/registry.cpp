@@ -15,12 +15,20 @@ namespace geomint {
 #include "systems.def"
 #undef GEOMINT_SYSTEM
 
-const std::vector<SystemInfo>& all_systems() {
-  static const std::vector<SystemInfo> all = {
+namespace {
+std::vector<SystemInfo> numbered_systems() {
+  std::vector<SystemInfo> all = {
 #define GEOMINT_SYSTEM(header, Type) make_system_info_##Type(),
 #include "systems.def"
 #undef GEOMINT_SYSTEM
   };
+  for (std::size_t i = 0; i < all.size(); ++i) all[i].index = static_cast<int>(i);
+  return all;
+}
+}  // namespace
+
+const std::vector<SystemInfo>& all_systems() {
+  static const std::vector<SystemInfo> all = numbered_systems();
   return all;
 }
 

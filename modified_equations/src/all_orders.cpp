@@ -138,7 +138,8 @@ double linear_flow_deviation(const LinearModified& lm, const Run& run) {
 }
 
 LinearSeries linear_series(const SystemInfo& sys, const ParamValues& pv, const std::string& scheme, int K, double h) {
-  const ModifiedSystem& ms = find_modified_system(sys.name);
+  const auto me = modified_system(sys);
+  const ModifiedSystem& ms = *me;
   const int n = sys.dof;
   require(sys.linear && sys.constraints == 0, "system '" + sys.name + "' is not linear and unconstrained");
   const std::vector<double> zero(static_cast<std::size_t>(n), 0.0);

@@ -6,6 +6,7 @@
 #include "geomint/budget.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition_families.hpp"
+#include "geomint/modified/formula_modified.hpp"
 #include "geomint/modified/plan.hpp"
 
 namespace geomint::modified {
@@ -15,13 +16,25 @@ namespace geomint::modified {
 #include "systems.def"
 #undef GEOMINT_SYSTEM
 
-const std::vector<ModifiedSystem>& all_modified_systems() {
+namespace {
+// In the order of systems.def, as the core's entries are: an entry's index there is its place here.
+const std::vector<ModifiedSystem>& header_systems() {
   static const std::vector<ModifiedSystem> all = {
 #define GEOMINT_SYSTEM(header, Type) make_modified_system_##Type(),
 #include "systems.def"
 #undef GEOMINT_SYSTEM
   };
   return all;
+}
+}  // namespace
+
+std::shared_ptr<const ModifiedSystem> modified_system(const SystemInfo& sys) {
+  if (sys.model) return formula_modified_system(sys.model);
+  const auto& all = header_systems();
+  require(sys.index >= 0 && static_cast<std::size_t>(sys.index) < all.size() && all[static_cast<std::size_t>(sys.index)].name == sys.name,
+          "system '" + sys.name + "' is neither an entry of core/src/systems.def nor defined by formulas");
+  // the table lives as long as the process: a pointer that owns nothing
+  return std::shared_ptr<const ModifiedSystem>(std::shared_ptr<const ModifiedSystem>(), &all[static_cast<std::size_t>(sys.index)]);
 }
 
 const SchemeInfo& modified_scheme(const SystemInfo& sys, const std::string& name) { return sys.scheme(name); }
@@ -77,12 +90,6 @@ const SchemeInfo& formula_scheme(const SystemInfo& sys, const std::string& name)
   return s;
 }
 
-const ModifiedSystem& find_modified_system(const std::string& name) {
-  for (const auto& s : all_modified_systems())
-    if (s.name == name) return s;
-  std::string known;
-  for (const auto& s : all_modified_systems()) known += (known.empty() ? "" : ", ") + s.name;
-  throw InputError("unknown system '" + name + "' (known: " + known + ")");
-}
+const ModifiedSystem& find_modified_system(const std::string& name) { return *modified_system(find_system(name)); }
 
 }  // namespace geomint::modified

@@ -46,10 +46,10 @@ void same_as_header(const std::string& name, const ParamValues& pv, double h) {
 }
 
 // A quartic oscillator (n = 1, no Herglotz Lagrangian): the pendulum file's shape with other formulas.
-std::shared_ptr<const formula::FormulaModel> quartic() {
-  return formula::compile_model([] {
+std::shared_ptr<const formula::FormulaModel> quartic(const std::string& name = "quartic") {
+  return formula::compile_model([&] {
     formula::SystemDescription d;
-    d.name = "quartic";
+    d.name = name;
     d.coordinates = 1;
     d.lagrangian = formula::formula_text("v1^2/2 - k*q1^4/4", "L");
     d.parameters.push_back({"k", formula::formula_text("2", "parameter k"), "stiffness"});
@@ -183,4 +183,24 @@ TEST_CASE("a formula file's modified equations are its header's, through the reg
     CHECK(a.lagrangian == b.lagrangian);
     CHECK(a.residual <= 1e-12 * (1 + std::abs(a.F[0])));
   }
+}
+
+TEST_CASE("an entry's modified equations and compositions are found through the entry, never by its name",
+          "[formula][registry][modified]") {
+  // a quartic oscillator that calls itself "pendulum": a lookup by name would give the header pendulum's equations
+  const auto entry = formula::formula_system_info(quartic("pendulum"));
+  const auto own = modified::modified_system(*entry);
+  const auto header = modified::modified_system(find_system("pendulum"));
+  CHECK(header.get() == &modified::find_modified_system("pendulum"));
+  const auto a = own->at({}, "la", 2, 0.0, {0.5}, {0.1}, 0.0, true);
+  const auto b = header->at({}, "la", 2, 0.0, {0.5}, {0.1}, 0.0, true);
+  CHECK(a.F_at(0, 0) == Approx(-2 * 0.125).epsilon(1e-15));  // F_0 = -k q^3, k = 2
+  CHECK(b.F_at(0, 0) != Approx(a.F_at(0, 0)).epsilon(1e-3));
+  // a shape compiles its compositions' runs, not the symmetry defect and step counts of the tests and benchmarks
+  CHECK(entry->run({}, "yoshida4:la-midpoint", 0.1, Path::generic, 1).steps == 30);
+  CHECK_THROWS_WITH(entry->symmetry({}, "la-midpoint", 0.1, 1), Catch::Contains("defined by formulas"));
+  CHECK_THROWS_WITH(entry->composition_steps({}, "yoshida4:la-midpoint", 0.1, 10), Catch::Contains("header systems only"));
+  CHECK_THROWS_AS(entry->base_steps({}, "la-midpoint", 0.1, 10), InputError);
+  CHECK(entry->index == -1);
+  CHECK(find_system("pendulum").model == nullptr);
 }

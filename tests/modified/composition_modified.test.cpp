@@ -15,7 +15,6 @@
 #include <string>
 #include <vector>
 
-#include "geomint/composition_registry.hpp"
 #include "geomint/generic/composition.hpp"
 #include "geomint/generic/composition_families.hpp"
 #include "geomint/modified/automatic.hpp"
@@ -205,13 +204,13 @@ TEST_CASE("a composition of order p has F_1 ... F_{p-1} = 0 to round-off and F_p
   // the largest |F_k| leaves a margin of 100 over the worst measured (6e-15, the knife edge). The same for the
   // contact z' (Z_k) and the modified constraint (phi_k, k >= 1).
   std::string table = "max_i |F_k| at the initial data (k = 0 .. min(p, 6)); kahanli8 (p = 8): F_1 .. F_6";
-  for (const auto& comp : all_compositions()) {
-    const SystemInfo& sys = find_system(comp.system);
-    const ModifiedSystem& ms = find_modified_system(comp.system);
+  for (const auto& sys : all_systems()) {
+    const auto me = modified_system(sys);
+    const ModifiedSystem& ms = *me;
     const auto x = sys.ode_initial_state({}, false);
     const std::vector<double> q(x.begin(), x.begin() + sys.dof), v(x.begin() + sys.dof, x.end());
     table += "\n" + sys.name + ":";
-    for (const auto& base : comp.bases) {
+    for (const auto& base : sys.composition_bases()) {
       table += "\n  " + base;
       for (const auto& fam : generic::composition_families()) {
         const std::string name = generic::composition_name(fam.name, base);

@@ -5,6 +5,7 @@
 // build then compiles that system's schemes, references and runners once, in a translation unit of its own
 // (generated from systems.def), and every program that takes --system finds it here. Nothing else changes.
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,6 +13,10 @@
 #include "geomint/timing.hpp"
 
 namespace geomint {
+
+namespace formula {
+class FormulaModel;
+}
 
 // A parameter of a system (its fields: physical constants, initial data, horizon T).
 struct ParamInfo {
@@ -113,6 +118,15 @@ struct Reference {
 enum class ReferenceKind { automatic, exact, odeint, odeint_rhs };
 ReferenceKind parse_reference(const std::string& name);
 
+// A step of h and then a step of -h from a state reached by a symmetric base scheme: how far it lands from where it
+// started (max norms), and the size of that state. For a symmetric map all of it is round-off; a constrained
+// scheme brings p back only up to a multiple of A(t, q)^T (generic/composition.hpp), so the part of dp
+// orthogonal to those directions is reported apart.
+struct SymmetryDefect {
+  double dq = 0, dz = 0, dp = 0, dp_tangent = 0;
+  double q = 0, p = 0;
+};
+
 struct SystemInfo {
   std::string name, description;
   int dof = 0, constraints = 0;
@@ -125,6 +139,13 @@ struct SystemInfo {
   std::vector<SchemeInfo> compositions;
   Expectations expectations;  // what its tests expect (declared with the system, or the defaults)
   std::vector<MeasureInfo> measures;  // what a run is measured by beyond the error in q (declared with the system)
+
+  // What the libraries above the core find their part of this system by (its modified equations: modified_system in
+  // modified/automatic_registry.hpp), so that a system is looked up by name once, here: a header system's place among
+  // the entries of core/src/systems.def (0-based; the libraries list theirs from the same file, in the same order),
+  // or a formula system's model (then index is -1).
+  int index = -1;
+  std::shared_ptr<const formula::FormulaModel> model;
 
   // Operations on this system: closures over its compiled code (its generated translation unit, or the shape of a
   // system defined by formulas) and, where the system is data, over that data (a formula system's model).
@@ -172,6 +193,14 @@ struct SystemInfo {
   // the generic step in double. InputError for other systems.
   std::function<std::vector<long double>(const ParamValues&, const std::string& scheme, double h, Path)> one_step_matrix;
   std::function<std::vector<double>(const ParamValues&)> continuous_matrix;
+  // What only compositions have (generic/composition_info.hpp), for tests and benchmarks: the symmetry defect of the
+  // base scheme's step of h then -h, from the state after `steps` steps of h from the initial data; and N steps from
+  // the initial data, nothing stored, returning the Newton updates they took, of the composition `name` at step h
+  // or of the base scheme alone at step h (any nonzero h, not tied to T: a stage's step). A formula system
+  // compiles its shape's schemes without them: InputError.
+  std::function<SymmetryDefect(const ParamValues&, const std::string& base, double h, long steps)> symmetry;
+  std::function<long(const ParamValues&, const std::string& name, double h, long N)> composition_steps;
+  std::function<long(const ParamValues&, const std::string& base, double h, long N)> base_steps;
 
   // The scheme or composition named `name` (or one of its aliases); InputError naming the known ones.
   const SchemeInfo& scheme(const std::string& name) const;

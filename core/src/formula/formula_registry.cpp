@@ -111,6 +111,17 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
   // The shape's code is compiled for every model of its shape: what it cannot know of this model is set here.
   entry.has_herglotz = model->has_herglotz();
   entry.has_exact = model->has_exact();
+  entry.model = model;
+  // A shape compiles its compositions' runs, not the benchmarks' and tests' operations of header systems.
+  const std::string no_composition_ops = "system '" + model->name + "' is defined by formulas: the symmetry defect and "
+                                         "the step counts of its compositions are compiled for header systems only";
+  entry.symmetry = [no_composition_ops](const ParamValues&, const std::string&, double, long) -> SymmetryDefect {
+    throw InputError(no_composition_ops);
+  };
+  entry.composition_steps = [no_composition_ops](const ParamValues&, const std::string&, double, long) -> long {
+    throw InputError(no_composition_ops);
+  };
+  entry.base_steps = entry.composition_steps;
   if (!model->has_herglotz())  // the shape compiles them; this model cannot run them
     entry.schemes.erase(std::remove_if(entry.schemes.begin(), entry.schemes.end(),
                                        [](const SchemeInfo& s) { return s.principle.rfind("discrete Herglotz", 0) == 0; }),

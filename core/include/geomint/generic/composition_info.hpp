@@ -1,15 +1,16 @@
 #pragma once
-// make_composition_info<Sys>(): the compositions of one system for the run-time lookup (composition_registry.hpp),
-// instantiated once per system in its generated translation unit, next to make_system_info<Sys>(): a
-// Composition<Sys, G> reuses the Stepper<Sys, G> instantiated there, so the compositions add one thin layer per
-// symmetric base scheme and nothing per family. Heavy: include it only there and in tests of typed pieces.
+// add_composition_operations<Sys>(info): what only compositions have (SystemInfo::symmetry, composition_steps,
+// base_steps), put into the system's registry entry in its generated translation unit, next to
+// make_system_info<Sys>(): a Composition<Sys, G> reuses the Stepper<Sys, G> instantiated there, so the compositions
+// add one thin layer per symmetric base scheme and nothing per family. Heavy: include it only there and in tests of
+// typed pieces.
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <tuple>
 #include <vector>
 
-#include "geomint/composition_registry.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/error.hpp"
 #include "geomint/generic/composition.hpp"
 #include "geomint/generic/system_info.hpp"
@@ -50,11 +51,8 @@ SymmetryDefect symmetry_defect(const Sys& sys, double h, long steps) {
 }
 
 template <class Sys>
-CompositionInfo make_composition_info() {
-  CompositionInfo info;
-  info.system = Sys::name;
-  info.bases = composable_schemes<Sys>();
-  info.steps = [](const ParamValues& pv, const std::string& name, double h, long N) {
+void add_composition_operations(SystemInfo& info) {
+  info.composition_steps = [](const ParamValues& pv, const std::string& name, double h, long N) {
     const Sys sys = make_system<Sys>(pv);
     sys.validate();
     require(std::isfinite(h) && h != 0 && N >= 0, "steps needs a finite nonzero h and N >= 0");
@@ -83,7 +81,6 @@ CompositionInfo make_composition_info() {
     sys.validate();
     return visit_composable<Sys>(base, [&](auto g) { return symmetry_defect<Sys, decltype(g)>(sys, h, steps); });
   };
-  return info;
 }
 
 }  // namespace geomint::generic

@@ -3,6 +3,7 @@
 // instantiation lives in one generated translation unit per line of core/src/systems.def, so a new system
 // gets its modified equations with no other file touched).
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -106,7 +107,12 @@ struct ModifiedSystem {
       formulas;
 };
 
-const std::vector<ModifiedSystem>& all_modified_systems();
+// The modified equations of an entry of the registry (core's all_systems(), or a formula system's entry): a header
+// system's by the entry's index (its place in core/src/systems.def), compiled with the system; a formula system's
+// from its model, by the shape it was compiled in (formula_modified.hpp; InputError for a shape without modified
+// equations). Hold the pointer: a formula system's is built for the call.
+std::shared_ptr<const ModifiedSystem> modified_system(const SystemInfo& sys);
+// The same for the header system `name` (InputError naming the known ones, as find_system).
 const ModifiedSystem& find_modified_system(const std::string& name);
 // The scheme `name` of `sys` for a modified equation (a scheme or a composition "<family>:<base>"): InputError for a
 // name the system does not know.
