@@ -8,6 +8,7 @@
 // Writes out/<system>_long_horizon.tsv (errors: the same bits for the same command), _timings.tsv, _summary.tsv and
 // the figure out/<system>_long_horizon.{png,pdf}; the Foucault study also _drift.tsv, Kepler's _summary_evals.tsv.
 #include "geomint/error.hpp"
+#include "geomint/registry.hpp"
 #include "geomint/system_cli.hpp"
 #include "long_horizon/studies.hpp"
 
@@ -17,8 +18,10 @@ int main(int argc, char** argv) {
   return guarded_main("long_horizon", [&] {
     if (find_system_file_arg(argc, argv).empty()) {
       const std::string name = find_system_arg(argc, argv, "oscillator");
-      for (const auto& s : long_horizon_studies())
+      for (const auto& s : long_horizon_studies()) {
+        find_system(s.system);  // a row that names no system would never run: refused here, not silently left out
         if (name == s.system) return s.run(argc, argv);
+      }
     }
     return long_horizon_generic(argc, argv);
   });
