@@ -11,6 +11,7 @@
 #include <random>
 #include <regex>
 
+#include "geomint/formula/formula_registry.hpp"
 #include "geomint/formula/model.hpp"
 #include "geomint/modified/formula_modified.hpp"
 #include "geomint/modified/symbolic_system.hpp"
@@ -304,6 +305,124 @@ TEST_CASE("a chain of six pendula (n = 6): its formulas F_0, F_1 equal the numbe
         CHECK(F1 > 1e-6);  // a first-order scheme's F_1 is there to compare (contact's is O(alpha): about 8e-4)
     }
   }
+}
+
+namespace {
+
+// A system of any shape (n coordinates, m rows of either kind) for the shape tests: n pendula coupled by springs,
+// damped (Rayleigh -alpha v, and the Herglotz form L - alpha z: with a unit mass matrix both give the same continuous
+// equations), with rows nonlinear in q, of full rank (row c is 1 on coordinate c and -sin(q_(c+1)) or -sin(q_(c+1))/2
+// on the next), which the initial data q = v = 0 satisfy.
+std::shared_ptr<const formula::FormulaModel> shape_model(int n, int m, bool holonomic) {
+  formula::SystemDescription d;
+  d.name = "shape-" + std::to_string(n) + "-" + std::to_string(m) + (holonomic ? "-holonomic" : "");
+  d.coordinates = n;
+  const auto qi = [](int i) { return "q" + std::to_string(i); };
+  const auto vi = [](int i) { return "v" + std::to_string(i); };
+  std::string L;
+  for (int i = 1; i <= n; ++i) {
+    L += " + " + vi(i) + "^2/2 - (1 - cos(" + qi(i) + "))";
+    if (i < n) L += " - k/2*(" + qi(i) + " - " + qi(i + 1) + ")^2";
+  }
+  d.lagrangian = formula::formula_text(L.substr(3), "L");
+  d.herglotz = formula::formula_text(L.substr(3) + " - alpha*z", "herglotz");
+  for (int i = 1; i <= n; ++i) d.force.push_back(formula::formula_text("-alpha*" + vi(i), "F" + std::to_string(i)));
+  d.constraint_kind = holonomic ? formula::ConstraintKind::holonomic : formula::ConstraintKind::velocity;
+  for (int c = 1; c <= m; ++c)
+    d.constraints.push_back(formula::formula_text(
+        holonomic ? qi(c) + " - sin(" + qi(c + 1) + ")/2" : vi(c) + " - sin(" + qi(c + 1) + ")*" + vi(c + 1), "row"));
+  d.parameters.push_back({"k", formula::formula_text("0.7", "parameter k"), "spring"});
+  d.parameters.push_back({"alpha", formula::formula_text("0.2", "parameter alpha"), "damping"});
+  d.parameters.push_back({"T", formula::formula_text("1", "parameter T"), "horizon"});
+  for (int i = 0; i < n; ++i) {
+    d.initial_q.push_back(formula::formula_text("0", "q"));
+    d.initial_v.push_back(formula::formula_text("0", "v"));
+  }
+  return formula::compile_model(d);
+}
+
+}  // namespace
+
+TEST_CASE("every compiled shape with modified equations: F_0 is the entry's equations, the self-check vanishes, the "
+          "formulas of F_0 and F_1 equal the numbers", "[symbolic][shapes]") {
+  // Every shape of shapes.def this build compiles, through its registry entry and modified_system(entry) as the
+  // programs reach them. At two random points: the numeric F_0 of la and contact equals the entry's continuous
+  // acceleration (Odeint's right-hand side, from the same model by other code), the self-check residual is at
+  // round-off, and la's formulas to K = 1, read back and evaluated in exact arithmetic, equal the numbers.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-0.5, 0.5);
+  std::string with, without;
+  for (int n = 1; n <= 12; ++n)
+    for (int m = 0; m < n && m <= 6; ++m)
+      for (bool holonomic : {false, true}) {
+        if ((m == 0 && holonomic) || !formula::formula_shape_compiled(n, m, holonomic)) continue;
+        const std::string shape = "(" + std::to_string(n) + ", " + std::to_string(m) + (holonomic ? ", holonomic)" : ")");
+        const auto entry = formula::formula_system_info(shape_model(n, m, holonomic));
+        std::shared_ptr<const ModifiedSystem> ms;
+        try {
+          ms = modified_system(*entry);
+        } catch (const InputError& e) {
+          CHECK_THAT(e.what(), Catch::Contains("shapes.def"));
+          without += " " + shape;
+          continue;
+        }
+        with += " " + shape;
+        const auto ode = entry->ode({});
+        for (int trial = 0; trial < 2; ++trial) {
+          const double t = U(rng), z = U(rng);
+          std::vector<double> q, v;
+          for (int i = 0; i < n; ++i) {
+            q.push_back(U(rng));
+            v.push_back(U(rng));
+          }
+          std::vector<double> x(q), dx(std::size_t(2 * n));
+          x.insert(x.end(), v.begin(), v.end());
+          ode(t, x.data(), dx.data());
+          double amax = 0;
+          for (int i = 0; i < n; ++i) amax = std::max(amax, std::abs(dx[std::size_t(n + i)]));
+          for (const char* scheme : {"la", "contact"}) {
+            const ModifiedPoint P = ms->at({}, scheme, 2, t, q, v, z, true);
+            double F = 0;
+            for (double f : P.F) F = std::max(F, std::abs(f));
+            INFO(shape << " " << scheme << ": self-check " << P.residual << " against |F| " << F);
+            CHECK(P.residual <= 1e-12 * F);
+            for (int i = 0; i < n; ++i) CHECK(std::abs(P.F_at(0, i) - dx[std::size_t(n + i)]) <= 1e-12 * (1 + amax));
+          }
+          const ModifiedFormulas f = ms->formulas({}, "la", 1, 60, false);
+          REQUIRE(f.K == 1);
+          GiNaC::symtab table;
+          GiNaC::lst point;
+          auto set = [&](const std::string& name, double value) {
+            if (!table.count(name)) table[name] = GiNaC::symbol(name);
+            point.append(table[name] == exact_rational(value));
+          };
+          set("t", t);
+          set("z", z);
+          for (int i = 0; i < n; ++i) {
+            set("q" + std::to_string(i + 1), q[std::size_t(i)]);
+            set("v" + std::to_string(i + 1), v[std::size_t(i)]);
+          }
+          for (const auto& [name, value] : f.values) set(name, value);
+          const ModifiedPoint P = ms->at({}, "la", 1, t, q, v, z, false);
+          int compared = 0;
+          double F1 = 0;
+          for (const auto& row : f.rows) {
+            const std::string& Q = row.quantity;
+            if (Q[0] != 'F' || Q.rfind("Fmod", 0) == 0) continue;
+            const int i = Q.size() == 1 ? 0 : std::stoi(Q.substr(1)) - 1;  // "F" for one coordinate, else F1 .. Fn
+            const double value = number(parse_formula(row.text, f.symbols, table).subs(point));
+            INFO(shape << " la " << Q << " k " << row.k << ": " << row.text);
+            CHECK(value == Approx(P.F_at(row.k, i)).epsilon(1e-10).margin(1e-12 * (std::abs(P.F_at(0, i)) + 1)));
+            if (row.k == 1) F1 = std::max(F1, std::abs(value));
+            ++compared;
+          }
+          INFO(shape);
+          CHECK(compared == 2 * n);  // F_0 and F_1 of each coordinate
+          CHECK(F1 > 1e-3);          // la is first order: its F_1 is there to compare
+        }
+      }
+  WARN("shapes with modified equations:" << with << "; without:" << (without.empty() ? " none" : without));
+  CHECK(!with.empty());
 }
 
 TEST_CASE("formulas: sympy reads the text as the numbers", "[symbolic][sympy]") {
