@@ -509,9 +509,66 @@ std::string formula_text(const ex& e) { return Printer{Style::text}.print(e, 0);
 std::string formula_mathematica(const ex& e) { return Printer{Style::mathematica}.print(e, 0); }
 std::string formula_latex(const ex& e) { return Printer{Style::latex}.print(e, 0); }
 
+namespace {
+
+// The symbols of e, sorted by name: an order that does not depend on GiNaC's hashes.
+std::vector<GiNaC::symbol> symbols_by_name(const ex& e) {
+  std::map<std::string, GiNaC::symbol> by_name;
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::symbol>(*it)) by_name.emplace(ex_to<GiNaC::symbol>(*it).get_name(), ex_to<GiNaC::symbol>(*it));
+  std::vector<GiNaC::symbol> out;
+  for (const auto& [name, x] : by_name) out.push_back(x);
+  return out;
+}
+
+// +1 or -1: the sign of p at a point that the symbols' names alone fix (the j-th by name at 1.1 + 0.37 j), so that p
+// and -p are told apart the same way in every run. A p that is not a real number there counts as positive.
+int canonical_sign(const ex& p, const std::vector<GiNaC::symbol>& symbols) {
+  GiNaC::exmap at;
+  for (std::size_t j = 0; j < symbols.size(); ++j) at[symbols[j]] = GiNaC::numeric(static_cast<long>(110 + 37 * j), 100);
+  const ex x = p.subs(at).evalf();
+  if (!GiNaC::is_a<GiNaC::numeric>(x) || !ex_to<GiNaC::numeric>(x).is_real()) return 1;
+  return ex_to<GiNaC::numeric>(x).is_negative() ? -1 : 1;
+}
+
+}  // namespace
+
+// GiNaC orders terms and factors by hashes seeded with the addresses of its type names, which change from run to
+// run (address-space randomization), and normal() follows that order: the same quotient came back with its
+// denominator as (q1^2 + q2^2)^3 in one run and expanded in another. So the quotient is shown in a form that its
+// value alone fixes: numerator and denominator expanded, the denominator positive at a point fixed by the symbols'
+// names, and shown square-free factored (sqrfree, in the symbols by name), each factor positive at that point.
 ex display_form(const ex& e) {
   const ex nd = simplify_coefficient(e).numer_denom();
-  return GiNaC::collect_common_factors(nd.op(0)) / GiNaC::collect_common_factors(nd.op(1));
+  ex num = nd.op(0).expand(), den = nd.op(1).expand();
+  if (GiNaC::is_a<GiNaC::numeric>(den)) return GiNaC::collect_common_factors((num / den).expand());
+  const auto symbols = symbols_by_name(den);
+  const int sign = canonical_sign(den, symbols);
+  num = (sign * num).expand();
+  den = (sign * den).expand();
+  GiNaC::lst vars;
+  for (const auto& x : symbols) vars.append(x);
+  ex shown = GiNaC::collect_common_factors(den);
+  if (!symbols.empty() && den.is_polynomial(vars)) {
+    const ex f = GiNaC::sqrfree(den, vars);
+    ex product = 1;  // the factors that are not numbers, each positive at the point
+    for (std::size_t i = 0; i < (GiNaC::is_a<GiNaC::mul>(f) ? f.nops() : 1); ++i) {
+      const ex x = GiNaC::is_a<GiNaC::mul>(f) ? f.op(i) : f;
+      const bool raised = GiNaC::is_a<GiNaC::power>(x) && GiNaC::is_a<GiNaC::numeric>(x.op(1));
+      const ex base = raised ? x.op(0) : x, exponent = raised ? x.op(1) : ex(1);
+      if (GiNaC::is_a<GiNaC::numeric>(base)) continue;
+      product *= GiNaC::pow(GiNaC::collect_common_factors((canonical_sign(base, symbols) * base).expand()), exponent);
+    }
+    // the number in front: den / product at a rational point where product does not vanish, exactly; checked
+    GiNaC::exmap at;
+    for (std::size_t j = 0; j < symbols.size(); ++j) at[symbols[j]] = GiNaC::numeric(static_cast<long>(110 + 37 * j), 100);
+    const ex p_at = product.subs(at).expand();
+    if (GiNaC::is_a<GiNaC::numeric>(p_at) && !p_at.is_zero()) {
+      const ex c = (den.subs(at) / p_at).expand();
+      if (GiNaC::is_a<GiNaC::numeric>(c) && (c * product - den).expand().is_zero()) shown = c * product;
+    }
+  }
+  return GiNaC::collect_common_factors(num) / shown;
 }
 
 ex collect_in_h(const std::vector<ex>& coefficients, const GiNaC::symbol& h) {
