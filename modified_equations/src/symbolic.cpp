@@ -521,12 +521,17 @@ std::vector<GiNaC::symbol> symbols_by_name(const ex& e) {
   return out;
 }
 
-// +1 or -1: the sign of p at a point that the symbols' names alone fix (the j-th by name at 1.1 + 0.37 j), so that p
-// and -p are told apart the same way in every run. A p that is not a real number there counts as positive.
-int canonical_sign(const ex& p, const std::vector<GiNaC::symbol>& symbols) {
+// A point that the symbols' names alone fix: the j-th by name at 1.1 + 0.37 j, exactly.
+GiNaC::exmap canonical_point(const std::vector<GiNaC::symbol>& symbols) {
   GiNaC::exmap at;
   for (std::size_t j = 0; j < symbols.size(); ++j) at[symbols[j]] = GiNaC::numeric(static_cast<long>(110 + 37 * j), 100);
-  const ex x = p.subs(at).evalf();
+  return at;
+}
+
+// +1 or -1: the sign of p at the canonical point, so that p and -p are told apart the same way in every run. A p
+// that is not a real number there counts as positive.
+int canonical_sign(const ex& p, const std::vector<GiNaC::symbol>& symbols) {
+  const ex x = p.subs(canonical_point(symbols)).evalf();
   if (!GiNaC::is_a<GiNaC::numeric>(x) || !ex_to<GiNaC::numeric>(x).is_real()) return 1;
   return ex_to<GiNaC::numeric>(x).is_negative() ? -1 : 1;
 }
@@ -560,8 +565,7 @@ ex display_form(const ex& e) {
       product *= GiNaC::pow(GiNaC::collect_common_factors((canonical_sign(base, symbols) * base).expand()), exponent);
     }
     // the number in front: den / product at a rational point where product does not vanish, exactly; checked
-    GiNaC::exmap at;
-    for (std::size_t j = 0; j < symbols.size(); ++j) at[symbols[j]] = GiNaC::numeric(static_cast<long>(110 + 37 * j), 100);
+    const GiNaC::exmap at = canonical_point(symbols);
     const ex p_at = product.subs(at).expand();
     if (GiNaC::is_a<GiNaC::numeric>(p_at) && !p_at.is_zero()) {
       const ex c = (den.subs(at) / p_at).expand();
