@@ -21,6 +21,7 @@
 #include "geomint/systems/oscillator.hpp"
 #include "geomint/systems/pendulum.hpp"
 #include "helpers.hpp"
+#include "symbolic_helpers.hpp"
 
 using namespace geomint;
 using namespace geomint::modified;
@@ -138,33 +139,6 @@ TEST_CASE("formulas: a run over its time budget stops and says at which order", 
   CHECK(f.r.K == 0);  // order 0 is always built: the budget is checked before each higher order
   CHECK(same(f.F(0), -sin(f.q()) - f.alpha() * f.v()));
 }
-
-namespace {
-
-// A formula's text (as modified_equation --formulas writes it) read back by GiNaC's parser.
-ex parse_formula(const std::string& text, const std::vector<std::string>& symbols, GiNaC::symtab& table) {
-  std::string read = text;
-  for (const auto& s : symbols) {
-    if (!table.count(s)) table[s] = GiNaC::symbol(s);
-    // GiNaC's reader takes these names as its constants whatever the table says (I: the imaginary unit): a
-    // parameter of that name (the knife edge's I) is read under another name bound to the same symbol
-    if (s == "I" || s == "Pi" || s == "Euler" || s == "Catalan") {
-      const std::string alias = s + "_param";
-      read = std::regex_replace(read, std::regex("\\b" + s + "\\b"), alias);
-      table[alias] = table[s];
-    }
-  }
-  GiNaC::parser reader(table, true);  // strict: an unknown name is an error, not a new symbol
-  return reader(read);
-}
-
-double number(const ex& e) {
-  const ex x = e.evalf();
-  REQUIRE(GiNaC::is_a<GiNaC::numeric>(x));
-  return GiNaC::ex_to<GiNaC::numeric>(x).to_double();
-}
-
-}  // namespace
 
 TEST_CASE("formulas equal the numbers at random points, every registered system and scheme", "[symbolic][registry]") {
   // One engine, two coefficient types: the formulas (printed, read back, evaluated at a random point and the
