@@ -6,6 +6,7 @@
 
 #include "geomint/error.hpp"
 #include "geomint/formula/formula_registry.hpp"
+#include "geomint/formula/jit.hpp"
 
 namespace geomint::modified {
 
@@ -37,6 +38,38 @@ const std::vector<Shape>& shapes() {
   return all;
 }
 
+// The modified equations of a shape the build did not compile them for, from its units compiled at run time
+// (formula/jit.hpp): the numeric unit and the formulas' (or, in a build without them, its refusal), as the build
+// makes them.
+ModifiedSystem compiled_at_run_time(const std::shared_ptr<const formula::FormulaModel>& model) {
+  const std::string n = std::to_string(model->n), m = std::to_string(model->m), h = model->holonomic ? "1" : "0";
+  const std::string shape = n + "_" + m + "_" + h;
+  const std::vector<std::pair<std::string, std::string>> numbers = {
+      {"GEOMINT_SHAPE_N", n}, {"GEOMINT_SHAPE_M", m}, {"GEOMINT_SHAPE_H", h}};
+  formula::jit::Library library;
+  library.name = "formula_modified_" + shape;
+  library.what = "the modified equations of the formula shape n = " + n + ", m = " + m + (model->holonomic ? " (holonomic)" : "");
+  library.units.push_back({"modified_equations/src/formula_shape_instance.cpp.in", numbers,
+                           "extern \"C\" void geomint_jit_entry(const std::shared_ptr<const geomint::formula::FormulaModel>& model,\n"
+                           "                                  geomint::modified::ModifiedSystem& out) {\n"
+                           "  out = geomint::modified::make_formula_modified_" + shape + "(model);\n}\n",
+                           {"-O1"}});  // as the build's light units: instantiation is their cost, not optimization
+#if GEOMINT_SYMBOLIC
+  library.units.push_back({"modified_equations/src/formula_symbolic_instance.cpp.in", numbers, "", {"-O1"}});
+  library.links_formulas = true;
+#else
+  auto refusal = numbers;
+  refusal.push_back({"GEOMINT_SYMBOLIC_FUNCTION", "formula_symbolic_" + shape});
+  refusal.push_back({"GEOMINT_SYMBOLIC_LEADING", "std::shared_ptr<const formula::FormulaModel>, "});
+  library.units.push_back({"modified_equations/src/symbolic_absent.cpp.in", refusal, "", {"-O1"}});
+#endif
+  using Entry = void (*)(const std::shared_ptr<const formula::FormulaModel>&, ModifiedSystem&);
+  const auto make = reinterpret_cast<Entry>(formula::jit::symbol(library, "geomint_jit_entry"));
+  ModifiedSystem entry;
+  make(model, entry);
+  return entry;
+}
+
 }  // namespace
 
 std::shared_ptr<const ModifiedSystem> formula_modified_system(std::shared_ptr<const formula::FormulaModel> model) {
@@ -50,13 +83,15 @@ std::shared_ptr<const ModifiedSystem> formula_modified_system(std::shared_ptr<co
               (s.holonomic ? " holonomic" : "");
     if (s.n == model->n && s.m == model->m && (s.m == 0 || s.holonomic == model->holonomic)) index = i;
   }
-  require(index < shapes().size(),
+  std::string why;  // the path's state, read before the message is built from it
+  const bool at_run_time = index == shapes().size() && formula::jit::enabled(&why);
+  require(index < shapes().size() || at_run_time,
           "system '" + model->name + "' has n = " + std::to_string(model->n) + ", m = " + std::to_string(model->m) +
               (model->holonomic ? " (holonomic)" : "") + ": this build compiles the modified equations of formula systems of the shapes " +
               marked + " (a 1 in the last column of the shape's line in core/src/formula/shapes.def, GEOMINT_FORMULA_SHAPE(" +
               std::to_string(model->n) + ", " + std::to_string(model->m) + ", " + (model->holonomic ? "1" : "0") +
-              ", 1), and a rebuild add them)");
-  ModifiedSystem entry = shapes()[index].make(model);
+              ", 1), and a rebuild add them; " + why + ")");
+  ModifiedSystem entry = index < shapes().size() ? shapes()[index].make(model) : compiled_at_run_time(model);
   entry.has_herglotz = model->has_herglotz();
   if (!model->has_herglotz())  // the core's contact schemes are the ones named contact*
     entry.schemes.erase(std::remove_if(entry.schemes.begin(), entry.schemes.end(),

@@ -8,6 +8,7 @@
 
 #include "geomint/error.hpp"
 #include "geomint/formula/checks.hpp"
+#include "geomint/formula/jit.hpp"
 #include "geomint/formula/time_transform.hpp"
 
 namespace geomint::formula {
@@ -33,6 +34,26 @@ const std::vector<Shape>& shapes() {
 #undef GEOMINT_FORMULA_SHAPE
   };
   return all;
+}
+
+// The entry of a shape the build did not compile, from the shape's unit compiled at run time (formula/jit.hpp).
+SystemInfo compiled_at_run_time(const std::shared_ptr<const FormulaModel>& model) {
+  const std::string n = std::to_string(model->n), m = std::to_string(model->m), h = model->holonomic ? "1" : "0";
+  jit::Library library;
+  library.name = "formula_shape_" + n + "_" + m + "_" + h;
+  library.what = "the formula shape n = " + n + ", m = " + m + (model->holonomic ? " (holonomic)" : "");
+  library.units.push_back(
+      {"core/src/formula/shape_instance.cpp.in",
+       {{"GEOMINT_SHAPE_N", n}, {"GEOMINT_SHAPE_M", m}, {"GEOMINT_SHAPE_H", h}},
+       "extern \"C\" void geomint_jit_entry(const std::shared_ptr<const geomint::formula::FormulaModel>& model,\n"
+       "                                  geomint::SystemInfo& out) {\n"
+       "  out = geomint::formula::make_formula_shape_info_" + n + "_" + m + "_" + h + "(model);\n}\n",
+       {}});
+  using Entry = void (*)(const std::shared_ptr<const FormulaModel>&, SystemInfo&);
+  const auto make = reinterpret_cast<Entry>(jit::symbol(library, "geomint_jit_entry"));
+  SystemInfo entry;
+  make(model, entry);
+  return entry;
 }
 
 }  // namespace
@@ -100,14 +121,16 @@ std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const Form
     const Shape& s = shapes()[i];
     if (s.n == model->n && s.m == model->m && (s.m == 0 || s.holonomic == model->holonomic)) index = i;
   }
-  require(index < shapes().size(),
+  std::string why;  // the path's state, read before the message is built from it
+  const bool at_run_time = index == shapes().size() && jit::enabled(&why);
+  require(index < shapes().size() || at_run_time,
           "system '" + model->name + "' has n = " + std::to_string(model->n) + ", m = " + std::to_string(model->m) +
               (model->holonomic ? " (holonomic)" : "") + (model->time_transformed ? " (n counts the time t of its time transformation)" : "") +
               ": this build compiles formula systems of the shapes " +
               compiled_formula_shapes() + " (the line GEOMINT_FORMULA_SHAPE(" + std::to_string(model->n) + ", " +
               std::to_string(model->m) + ", " + (model->holonomic ? "1" : "0") +
-              ", 1) in core/src/formula/shapes.def and a rebuild add it, with its modified equations)");
-  SystemInfo entry = shapes()[index].make(model);
+              ", 1) in core/src/formula/shapes.def and a rebuild add it, with its modified equations; " + why + ")");
+  SystemInfo entry = index < shapes().size() ? shapes()[index].make(model) : compiled_at_run_time(model);
   // The shape's code is compiled for every model of its shape: what it cannot know of this model is set here.
   entry.has_herglotz = model->has_herglotz();
   entry.has_exact = model->has_exact();
