@@ -5,7 +5,12 @@
 // headers associate). Timed with Google Benchmark (medians over interleaved repetitions); every ratio is
 // between medians of this run. Target: formula / header <= 3.
 //   bench_formula [--systems docs/systems] [--reps 9] [--out out] [--benchmark_filter=...]
-// Writes out/bench_formula.tsv (every case) and out/bench_formula_ratios.tsv (formula / header).
+// Then the knife-edge file through its registry entry, as the programs run it: the shape the build compiled against
+// the same shape compiled at run time (formula/jit.hpp, the path of the shapes the build does not compile), ns per
+// step of whole generic runs, after checking that both give the same bits. Target: run time / compiled <= 3.
+// Writes out/bench_formula.tsv (every case), out/bench_formula_ratios.tsv (formula / header) and
+// out/bench_formula_run_time.tsv (compiled at run time / compiled with the build).
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <tuple>
@@ -13,6 +18,7 @@
 #include "bench_table.hpp"
 #include "geomint/cli.hpp"
 #include "geomint/error.hpp"
+#include "geomint/formula/formula_registry.hpp"
 #include "geomint/formula/formula_system.hpp"
 #include "geomint/generic/stepper.hpp"
 #include "geomint/io.hpp"
@@ -82,6 +88,28 @@ int main(int argc, char** argv) {
     compare(systems::Pendulum{}, pendulum);
     compare(systems::KnifeEdge{}, knife_edge);
 
+    // The registry entry's runs, compiled with the build and at run time (loaded, or compiled now on a first use).
+    const auto model = knife_edge.model_ptr();
+    const auto built = formula::formula_system_info(model);
+    const auto load_start = std::chrono::steady_clock::now();
+    const auto loaded = formula::formula_system_info(model, true);
+    const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
+    const double h_run = 0.01;
+    const long run_steps_count = step_count(h_run, 20.0), keep = run_steps_count;  // the horizon T = 20 of the file
+    std::vector<Pair> entry_pairs;
+    for (const char* scheme : {"la", "contact", "la-midpoint"}) {
+      const Run a = built->run({}, scheme, h_run, Path::generic, 1), b = loaded->run({}, scheme, h_run, Path::generic, 1);
+      require(a.q == b.q && a.p == b.p && a.z == b.z && a.lambda == b.lambda,
+              std::string("knife-edge ") + scheme + ": the shape compiled at run time does not step to the build's bits");
+      Pair p{"knife-edge", scheme, std::string("entry compiled knife-edge ") + scheme,
+             std::string("entry run-time knife-edge ") + scheme};
+      table.add("knife-edge entry", p.header_case, double(run_steps_count),
+                [=] { do_not_optimize(built->run({}, scheme, h_run, Path::generic, keep).steps); });
+      table.add("knife-edge entry", p.formula_case, double(run_steps_count),
+                [=] { do_not_optimize(loaded->run({}, scheme, h_run, Path::generic, keep).steps); });
+      entry_pairs.push_back(p);
+    }
+
     std::printf("Google Benchmark, medians of %d interleaved repetitions (ns per step):\n", reps);
     table.run();
     const Params params{{"reps", std::to_string(reps)}, {"h", format_number(h)}, {"steps", std::to_string(N)},
@@ -96,6 +124,19 @@ int main(int argc, char** argv) {
       std::printf("%-12s %-10s %10.1f %10.1f %8.2f\n", p.system.c_str(), p.scheme.c_str(), a, b, b / a);
     }
     ratios.commit();
+    TsvWriter run_time(out / "bench_formula_run_time.tsv", "bench_formula",
+                       {{"reps", std::to_string(reps)}, {"h", format_number(h_run)}, {"steps", std::to_string(run_steps_count)},
+                        {"systems", dir}, {"load_seconds", format_number(load_seconds)}},
+                       {"system", "scheme", "ns_compiled", "ns_run_time", "ratio"});
+    std::printf("\nregistry entry, whole runs (h = %g, %ld steps): the shape compiled with the build and at run time "
+                "(loaded in %.3g s)\n%-12s %-12s %10s %10s %8s\n",
+                h_run, run_steps_count, load_seconds, "system", "scheme", "compiled", "run time", "ratio");
+    for (const auto& p : entry_pairs) {
+      const double a = table.ns(p.header_case), b = table.ns(p.formula_case);
+      run_time.row(p.system, p.scheme, a, b, b / a);
+      std::printf("%-12s %-12s %10.1f %10.1f %8.2f\n", p.system.c_str(), p.scheme.c_str(), a, b, b / a);
+    }
+    run_time.commit();
     return 0;
   });
 }

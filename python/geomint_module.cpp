@@ -86,50 +86,6 @@ ParamValues param_values(const py::dict& params) {
   return pv;
 }
 
-// A system of the registry or defined by formulas, with its modified equations where the build has them.
-class System {
- public:
-  // A header system (the registry's entries live as long as the process).
-  explicit System(const SystemInfo& info) : info_(std::shared_ptr<const SystemInfo>(), &info) {}
-  explicit System(std::shared_ptr<const formula::FormulaModel> model)
-      : model_(std::move(model)), info_(formula::formula_system_info(model_)) {}
-
-  const SystemInfo& info() const { return *info_; }
-  bool is_formula() const { return model_ != nullptr; }
-
-  const modified::ModifiedSystem& modified() const {
-    if (!modified_) modified_ = modified::modified_system(*info_);
-    return *modified_;
-  }
-
-  std::vector<std::string> warnings(const ParamValues& pv) const {
-    if (!model_) return {};
-    return formula::formula_warnings(model_, pv);
-  }
-
-  const std::shared_ptr<const formula::FormulaModel>& model() const { return model_; }
-  // A surrogate (modified/surrogate.hpp): its step parameter, which a run sets to its step, and how it was built.
-  std::string step_parameter;
-  std::shared_ptr<const modified::SurrogateSystem> surrogate;
-
- private:
-  std::shared_ptr<const formula::FormulaModel> model_;
-  std::shared_ptr<const SystemInfo> info_;
-  mutable std::shared_ptr<const modified::ModifiedSystem> modified_;
-};
-
-// geomint.GeomintWarning (a UserWarning), made when the module is imported.
-PyObject* geomint_warning = nullptr;
-
-// A Herglotz form inconsistent with the force, through Python's warnings before the first contact-family run of
-// the system (formula::contact_warnings: once per system), so that `integrate("contact")` cannot silently run a
-// different system. A filter that turns warnings into errors raises here, before the run.
-void warn_contact(const System& s, const std::vector<ParamValues>& values, const std::vector<std::string>& schemes) {
-  if (!s.is_formula()) return;
-  for (const auto& why : formula::contact_warnings(s.model(), s.info(), values, schemes))
-    if (PyErr_WarnEx(geomint_warning, one_line(why).c_str(), 1) != 0) throw py::error_already_set();
-}
-
 // f() with the GIL released, under a Watch (interrupt.hpp): its loops poll Python's pending signals every 0.1 s
 // (PyErr_CheckSignals on this, the main, thread), so Ctrl-C stops the call within a fraction of a second and raises
 // KeyboardInterrupt from Python's own handler; the call's outermost task is handed to `progress` (a callable
@@ -169,6 +125,52 @@ auto watched(const py::object& progress, F&& f) -> decltype(f()) {
     watch.rethrow_if_stopped();
     throw;
   }
+}
+
+// A system of the registry or defined by formulas, with its modified equations where the build has them.
+class System {
+ public:
+  // A header system (the registry's entries live as long as the process).
+  explicit System(const SystemInfo& info) : info_(std::shared_ptr<const SystemInfo>(), &info) {}
+  // Watched: a shape the build did not compile is compiled here at its first use (formula/jit.hpp), for a minute or
+  // so, and Ctrl-C stops it.
+  explicit System(std::shared_ptr<const formula::FormulaModel> model)
+      : model_(std::move(model)), info_(watched(py::none(), [&] { return formula::formula_system_info(model_); })) {}
+
+  const SystemInfo& info() const { return *info_; }
+  bool is_formula() const { return model_ != nullptr; }
+
+  const modified::ModifiedSystem& modified() const {
+    if (!modified_) modified_ = watched(py::none(), [&] { return modified::modified_system(*info_); });
+    return *modified_;
+  }
+
+  std::vector<std::string> warnings(const ParamValues& pv) const {
+    if (!model_) return {};
+    return formula::formula_warnings(model_, pv);
+  }
+
+  const std::shared_ptr<const formula::FormulaModel>& model() const { return model_; }
+  // A surrogate (modified/surrogate.hpp): its step parameter, which a run sets to its step, and how it was built.
+  std::string step_parameter;
+  std::shared_ptr<const modified::SurrogateSystem> surrogate;
+
+ private:
+  std::shared_ptr<const formula::FormulaModel> model_;
+  std::shared_ptr<const SystemInfo> info_;
+  mutable std::shared_ptr<const modified::ModifiedSystem> modified_;
+};
+
+// geomint.GeomintWarning (a UserWarning), made when the module is imported.
+PyObject* geomint_warning = nullptr;
+
+// A Herglotz form inconsistent with the force, through Python's warnings before the first contact-family run of
+// the system (formula::contact_warnings: once per system), so that `integrate("contact")` cannot silently run a
+// different system. A filter that turns warnings into errors raises here, before the run.
+void warn_contact(const System& s, const std::vector<ParamValues>& values, const std::vector<std::string>& schemes) {
+  if (!s.is_formula()) return;
+  for (const auto& why : formula::contact_warnings(s.model(), s.info(), values, schemes))
+    if (PyErr_WarnEx(geomint_warning, one_line(why).c_str(), 1) != 0) throw py::error_already_set();
 }
 
 py::dict run_dict(const Run& run) {

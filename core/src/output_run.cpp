@@ -49,6 +49,7 @@ volatile std::sig_atomic_t g_locked = 0;  // g_target_fd/.geomint-lock is ours
 char g_stage_name[64];
 constexpr int max_helpers = 64;
 volatile pid_t g_helpers[max_helpers];
+volatile pid_t g_helper_group = 0;  // a process group of helpers (OutputRun::set_helper_group)
 sigset_t g_interrupts;  // the signals handle_interrupts() took over
 // The folders this run created for its --out (created_folders.hpp), for the handler: the absolute target path and
 // the length of its outermost created prefix. g_created_len is 0 while there are none (or the path is too long to
@@ -116,6 +117,7 @@ extern "C" void geomint_on_interrupt(int sig) {
   if (__atomic_exchange_n(&g_handling, 1, __ATOMIC_SEQ_CST)) {  // another thread is already handling one
     for (;;) ::pause();
   }
+  if (const pid_t group = g_helper_group; group > 0) ::kill(-group, SIGKILL);
   for (int i = 0; i < max_helpers; ++i) {
     const pid_t helper = g_helpers[i];
     if (helper > 0) {
@@ -601,6 +603,8 @@ void OutputRun::set_helper(long pid) {
       return;
     }
 }
+
+void OutputRun::set_helper_group(long pgid) { g_helper_group = static_cast<pid_t>(pgid); }
 
 void OutputRun::end() {
   g_locked = 0;

@@ -50,7 +50,7 @@ ModifiedSystem compiled_at_run_time(const std::shared_ptr<const formula::Formula
   library.name = "formula_modified_" + shape;
   library.what = "the modified equations of the formula shape n = " + n + ", m = " + m + (model->holonomic ? " (holonomic)" : "");
   library.units.push_back({"modified_equations/src/formula_shape_instance.cpp.in", numbers,
-                           "extern \"C\" void geomint_jit_entry(const std::shared_ptr<const geomint::formula::FormulaModel>& model,\n"
+                           "extern \"C\" __attribute__((visibility(\"default\"))) void geomint_jit_entry(const std::shared_ptr<const geomint::formula::FormulaModel>& model,\n"
                            "                                  geomint::modified::ModifiedSystem& out) {\n"
                            "  out = geomint::modified::make_formula_modified_" + shape + "(model);\n}\n",
                            {"-O1"}});  // as the build's light units: instantiation is their cost, not optimization

@@ -14,6 +14,7 @@
 #include "geomint/formula/formula_registry.hpp"
 #include "geomint/modified/formula_modified.hpp"
 #include "geomint/registry.hpp"
+#include "helpers.hpp"
 #include "geomint/study.hpp"
 
 using namespace geomint;
@@ -129,17 +130,20 @@ std::shared_ptr<const formula::FormulaModel> three_quartics() {
   }());
 }
 
-TEST_CASE("a shape the build does not compile is refused with one line naming the file that adds it", "[formula][registry]") {
+TEST_CASE("with compilation at first use off, a shape the build does not compile is refused with one line naming the file that adds it", "[formula][registry]") {
   const auto model = three_quartics();
   if (formula::formula_shape_compiled(3, 1, true)) {  // the plain build compiles every shape up to n = 4, m = 2
     const auto entry = formula::formula_system_info(model);
     const Run r = entry->run({}, "la", 0.1, Path::generic, 1);
     CHECK(r.steps == 20);
     CHECK(r.q[3 * 20] != r.q[0]);  // it moved
-  } else {  // the sanitizer build compiles the shapes its tests use
+  } else {  // the sanitizer build compiles the shapes its tests use; the others, at their first use unless that is off
+    const testing::ScopedEnv off("GEOMINT_SHAPE_JIT", "0");
     CHECK_THROWS_WITH(formula::formula_system_info(model), Catch::Contains("core/src/formula/shapes.def"));
   }
-  // modified equations are compiled for fewer shapes (a 1 in the line's last column adds them)
+  // modified equations are compiled for fewer shapes (a 1 in the line's last column adds them); the others are compiled
+  // at their first use unless that path is off (formula/jit.hpp; tests/formula/jit.test.cpp)
+  const testing::ScopedEnv off("GEOMINT_SHAPE_JIT", "0");
   CHECK_THROWS_WITH(modified::formula_modified_system(model), Catch::Contains("shapes.def"));
 }
 

@@ -5,7 +5,6 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -19,27 +18,6 @@ using namespace geomint;
 namespace fs = std::filesystem;
 
 namespace {
-
-// Sets an environment variable for the scope, and puts back what was there.
-class Environment {
- public:
-  Environment(const char* name, const std::string& value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    ::setenv(name, value.c_str(), 1);
-  }
-  ~Environment() {
-    if (old_)
-      ::setenv(name_, old_->c_str(), 1);
-    else
-      ::unsetenv(name_);
-  }
-  Environment(const Environment&) = delete;
-  Environment& operator=(const Environment&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
 
 formula::jit::Library probe(const std::string& name, const std::string& value) {
   formula::jit::Library library;
@@ -60,12 +38,12 @@ std::size_t files_ending(const fs::path& dir, const std::string& suffix) {
 
 }  // namespace
 
-TEST_CASE("shapes compiled at run time: a unit is compiled into the cache and loaded; one that does not compile says "
-          "why and leaves nothing",
+TEST_CASE("shapes compiled at run time: a unit is compiled into the cache and loaded, and one that does not compile "
+          "says why and leaves nothing",
           "[formula][jit]") {
   REQUIRE(formula::jit::enabled());
   const fs::path cache = testing::fresh_dir("jit-cache");
-  const Environment env("GEOMINT_SHAPE_CACHE", cache.string());
+  const testing::ScopedEnv env("GEOMINT_SHAPE_CACHE", cache.string());
   REQUIRE(formula::jit::cache_directory() == cache.string());
   const std::string tag = std::to_string(::getpid());
 
@@ -93,7 +71,7 @@ TEST_CASE("shapes compiled at run time: a unit is compiled into the cache and lo
 
 TEST_CASE("shapes compiled at run time: turned off, a shape the build does not compile is the error naming shapes.def",
           "[formula][jit]") {
-  const Environment off("GEOMINT_SHAPE_JIT", "0");
+  const testing::ScopedEnv off("GEOMINT_SHAPE_JIT", "0");
   std::string why;
   CHECK_FALSE(formula::jit::enabled(&why));
   CHECK(why.find("GEOMINT_SHAPE_JIT=0") != std::string::npos);

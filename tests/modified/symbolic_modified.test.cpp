@@ -326,6 +326,8 @@ TEST_CASE("every compiled shape with modified equations: F_0 is the entry's equa
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(-0.5, 0.5);
   std::string with, without;
+  // the compiled ones: a shape without them would otherwise be compiled now (formula/jit.hpp; a minute each)
+  const testing::ScopedEnv off("GEOMINT_SHAPE_JIT", "0");
   for (int n = 1; n <= 12; ++n)
     for (int m = 0; m < n && m <= 6; ++m)
       for (bool holonomic : {false, true}) {

@@ -68,6 +68,9 @@ class OutputRun {
   // A helper process (gnuplot) writing into the staging folder, stopped by the interrupt handler: pid > 0 when
   // it starts, -pid when it has ended (several may run at once).
   static void set_helper(long pid);
+  // A process group the interrupt handler ends with the program (the compiler of a shape compiled at run time,
+  // formula/jit.hpp, in a group of its own so that its children go with it): its id while it runs, 0 after.
+  static void set_helper_group(long pgid);
 
  private:
   OutputRun() = default;

@@ -45,7 +45,7 @@ SystemInfo compiled_at_run_time(const std::shared_ptr<const FormulaModel>& model
   library.units.push_back(
       {"core/src/formula/shape_instance.cpp.in",
        {{"GEOMINT_SHAPE_N", n}, {"GEOMINT_SHAPE_M", m}, {"GEOMINT_SHAPE_H", h}},
-       "extern \"C\" void geomint_jit_entry(const std::shared_ptr<const geomint::formula::FormulaModel>& model,\n"
+       "extern \"C\" __attribute__((visibility(\"default\"))) void geomint_jit_entry(const std::shared_ptr<const geomint::formula::FormulaModel>& model,\n"
        "                                  geomint::SystemInfo& out) {\n"
        "  out = geomint::formula::make_formula_shape_info_" + n + "_" + m + "_" + h + "(model);\n}\n",
        {}});
@@ -114,16 +114,16 @@ std::string compiled_formula_shapes() {
   return out;
 }
 
-std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const FormulaModel> model) {
+std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const FormulaModel> model, bool at_run_time) {
   require(model != nullptr, "formula system without a model");
   std::size_t index = shapes().size();
   for (std::size_t i = 0; i < shapes().size(); ++i) {
     const Shape& s = shapes()[i];
-    if (s.n == model->n && s.m == model->m && (s.m == 0 || s.holonomic == model->holonomic)) index = i;
+    if (!at_run_time && s.n == model->n && s.m == model->m && (s.m == 0 || s.holonomic == model->holonomic)) index = i;
   }
   std::string why;  // the path's state, read before the message is built from it
-  const bool at_run_time = index == shapes().size() && jit::enabled(&why);
-  require(index < shapes().size() || at_run_time,
+  const bool jit_on = index == shapes().size() && jit::enabled(&why);
+  require(index < shapes().size() || jit_on,
           "system '" + model->name + "' has n = " + std::to_string(model->n) + ", m = " + std::to_string(model->m) +
               (model->holonomic ? " (holonomic)" : "") + (model->time_transformed ? " (n counts the time t of its time transformation)" : "") +
               ": this build compiles formula systems of the shapes " +

@@ -25,6 +25,7 @@
 
 #include "geomint/error.hpp"
 #include "geomint/interrupt.hpp"
+#include "geomint/output_run.hpp"
 
 extern char** environ;
 
@@ -160,10 +161,12 @@ void wait_a_little() {
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
 }
 
-// A child process, started with an argument vector (no shell), its output to `log`.
+// A child process, started with an argument vector (no shell), its output to `log`, in the process group `group`
+// (0: a new group, its own). The compiler's driver does not pass a SIGTERM on to the compiler proper it runs, so the
+// children are stopped by their group, and a program's interrupt handler ends that group with the program.
 class Child {
  public:
-  Child(const std::vector<std::string>& args, const std::string& log) {
+  Child(const std::vector<std::string>& args, const std::string& log, pid_t group) {
     std::vector<char*> argv;
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
@@ -172,19 +175,26 @@ class Child {
     posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_adddup2(&actions, 1, 2);
     posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    const int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attributes, group);
+    const int rc = posix_spawn(&pid_, argv[0], &actions, &attributes, argv.data(), environ);
+    posix_spawnattr_destroy(&attributes);
     posix_spawn_file_actions_destroy(&actions);
     if (rc != 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(rc));
+    group_ = group == 0 ? pid_ : group;
   }
   ~Child() {
-    if (pid_ > 0) {  // left while running (interrupted, or another unit failed)
-      ::kill(pid_, SIGTERM);
+    if (pid_ > 0) {  // left while running (interrupted, or another unit failed): it and what it started
+      ::kill(-group_, SIGTERM);
       int status = 0;
       ::waitpid(pid_, &status, 0);
     }
   }
   Child(const Child&) = delete;
   Child& operator=(const Child&) = delete;
+  pid_t pid() const { return pid_; }
   // The exit status once it ended, -1 while it runs; a signal that ended it as 128 + its number.
   int poll() {
     if (pid_ <= 0) return status_;
@@ -197,7 +207,7 @@ class Child {
   }
 
  private:
-  pid_t pid_ = 0;
+  pid_t pid_ = 0, group_ = 0;
   int status_ = -1;
 };
 
@@ -252,7 +262,14 @@ std::string tail(const std::string& log, std::size_t lines) {
 void run_all(std::vector<std::vector<std::string>> commands, const std::vector<std::string>& logs, const std::string& what,
              Task& task) {
   std::vector<std::unique_ptr<Child>> children;
-  for (std::size_t i = 0; i < commands.size(); ++i) children.push_back(std::make_unique<Child>(commands[i], logs[i]));
+  struct Registered {  // the group, for a program's interrupt handler, while the children run
+    ~Registered() { OutputRun::set_helper_group(0); }
+  } registered;
+  pid_t group = 0;
+  for (std::size_t i = 0; i < commands.size(); ++i) {
+    children.push_back(std::make_unique<Child>(commands[i], logs[i], group));
+    if (group == 0) OutputRun::set_helper_group(group = children.back()->pid());
+  }
   std::vector<int> status(children.size(), -1);
   for (std::size_t left = children.size(); left > 0;) {
     for (std::size_t i = 0; i < children.size(); ++i) {
@@ -336,6 +353,10 @@ void* symbol(const Library& library, const std::string& name) {
         logs.push_back(base + ".log");
         std::vector<std::string> args{flags.compiler};
         args.insert(args.end(), flags.compile.begin(), flags.compile.end());
+        // What the object defines stays its own (its entry points say otherwise): its code binds to its own
+        // instances of the templates, not to a program's of the same name, and the loader resolves only what it
+        // takes from the program.
+        args.insert(args.end(), {"-fvisibility=hidden", "-fvisibility-inlines-hidden"});
         args.insert(args.end(), library.units[i].options.begin(), library.units[i].options.end());
         args.insert(args.end(), {"-MD", "-MF", depfiles.back(), "-c", base + ".cpp", "-o", objects.back()});
         compiles.push_back(std::move(args));

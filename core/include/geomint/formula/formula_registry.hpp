@@ -6,7 +6,8 @@
 // A formula system's type is its shape (n, m, holonomic), and its formulas are data. So the schemes are compiled once
 // per shape listed in core/src/formula/shapes.def (one generated translation unit each, like a header system's), and
 // an entry's operations are that code's closures over a system holding the entry's model: any number of models live
-// at once, each in its own entry. A shape not listed is an InputError naming that file: adding one is one line there.
+// at once, each in its own entry. A shape not listed there is compiled at its first use, from the same generated
+// units (formula/jit.hpp); with that path off, it is an InputError naming shapes.def, where a line adds it.
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,8 +19,9 @@ namespace geomint::formula {
 
 // The registry entry of `model` (it holds the model). Its schemes are the core's, without the contact schemes when the
 // model has no Herglotz Lagrangian; its parameters are the model's, its references Boost.Odeint on the equations
-// derived from the formulas.
-std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const FormulaModel> model);
+// derived from the formulas. A shape the build did not compile is compiled at its first use (formula/jit.hpp);
+// at_run_time: that path even for a shape the build compiled (the benchmark of the two).
+std::shared_ptr<const SystemInfo> formula_system_info(std::shared_ptr<const FormulaModel> model, bool at_run_time = false);
 
 // The Herglotz Lagrangian checked against the force at these parameter values (FormulaSystemT::warnings): empty,
 // or one message. Every shape (the check runs at run-time dimensions, checks.hpp).

@@ -27,7 +27,8 @@
 namespace geomint::formula::jit {
 
 // One translation unit of a shared object: a template of the source tree (path relative to it) with @KEY@ replaced,
-// then `appended` (the object's entry point, extern "C"), compiled with the build's flags and then `options`.
+// then `appended` (the object's entry point: extern "C" and __attribute__((visibility("default"))), since everything
+// else the object defines is hidden), compiled with the build's flags and then `options`.
 struct Unit {
   std::string template_file;
   std::vector<std::pair<std::string, std::string>> substitutions;
