@@ -1,6 +1,7 @@
 """The module as a notebook's workbench: a Herglotz form inconsistent with the force is never a silent wrong system
 (a GeomintWarning at the first contact-family run, an error at definition in strict mode, a warning on a program's
-stderr); long calls stop on Ctrl-C within a second and leave the interpreter usable; a formula budget holds inside
+stderr); long calls stop on Ctrl-C within a second and leave the interpreter usable (a compilation of a shape at its first use
+among them, in the module and in a program, and the compiler goes with it); a formula budget holds inside
 an order; progress reaches a callback.
 
 Run by ctest with the other module tests (python/CMakeLists.txt).
@@ -135,6 +136,8 @@ CHILD = textwrap.dedent("""\
                                               threads=2),
         # orders 0..5 in the velocities q': order 4 alone is half a minute of GiNaC, order 5 minutes
         "modified_formulas": lambda: sleigh.modified_formulas("la", order=5, budget=600),
+        # a shape the build does not compile: compiled at its first use, half a minute of one core
+        "compile": lambda: geomint.load_system(sys.argv[3]),
     }
     print("ready", flush=True)
     try:
@@ -147,16 +150,90 @@ CHILD = textwrap.dedent("""\
     """)
 
 
-@pytest.mark.parametrize("what", ["integrate", "convergence", "ensemble", "modified_formulas"])
+# five coupled oscillators: n = 5 without rows, a shape the build does not compile (core/src/formula/shapes.def), so
+# that its first use compiles it (docs/systems/README.md, "Shapes the build did not compile")
+FIVE = textwrap.dedent("""\
+    [system]
+    name = five-oscillators
+    coordinates = 5
+    [parameters]
+    T = 1
+    [dynamics]
+    L = (v1^2 + v2^2 + v3^2 + v4^2 + v5^2)/2 - (q1^2 + (q2 - q1)^2 + (q3 - q2)^2 + (q4 - q3)^2 + (q5 - q4)^2)/2
+    [initial]
+    q1 = 0.1
+    q2 = 0
+    q3 = 0
+    q4 = 0
+    q5 = 0
+    v1 = 0
+    v2 = 0
+    v3 = 0
+    v4 = 0
+    v5 = 0
+    """)
+
+
+def alive(pid):
+    """The process exists and is not a zombie."""
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def compiler_under(pid):
+    """The processes below pid once a compiler (cc1plus) is among them (5 s at most), from /proc."""
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline:
+        parent, names = {}, {}
+        for name in os.listdir("/proc"):
+            if name.isdigit():
+                try:
+                    with open("/proc/%s/stat" % name) as f:
+                        comm, rest = f.read().split(" (", 1)[1].rsplit(")", 1)
+                    parent[int(name)], names[int(name)] = int(rest.split()[1]), comm
+                except (OSError, IndexError):
+                    pass
+        below, todo = set(), [pid]
+        while todo:
+            p = todo.pop()
+            for c, pp in parent.items():
+                if pp == p and c not in below:
+                    below.add(c)
+                    todo.append(c)
+        if any(names[p] == "cc1plus" for p in below):
+            return below
+        time.sleep(0.05)
+    raise AssertionError("no compiler under the process after 5 s")
+
+
+def check_compiler_gone(processes, cache):
+    """The compiler went with its caller (1.5 s at most), and the cache holds nothing half-made."""
+    deadline = time.monotonic() + 1.5
+    while any(alive(p) for p in processes) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not any(alive(p) for p in processes), "the compiler outlived its caller"
+    left = sorted(f for f in os.listdir(cache) if f.endswith((".so", ".o", ".tmp")))
+    assert left == [], left
+
+
+@pytest.mark.parametrize("what", ["integrate", "convergence", "ensemble", "modified_formulas", "compile"])
 def test_ctrl_c_stops_a_long_call_within_a_second_and_the_interpreter_goes_on(tmp_path, what):
     script = tmp_path / "child.py"
     script.write_text(CHILD)
+    (tmp_path / "five.geomint").write_text(FIVE)
+    cache = tmp_path / "cache"
     child = subprocess.Popen([sys.executable, str(script), what, os.path.join(SRC, "docs", "systems",
-                                                                              "chaplygin-sleigh.geomint")],
+                                                                              "chaplygin-sleigh.geomint"),
+                              str(tmp_path / "five.geomint")],
+                             env=dict(os.environ, GEOMINT_SHAPE_CACHE=str(cache)),
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         assert child.stdout.readline().strip() == "ready"
         time.sleep(1.0)  # well inside the call
+        below = compiler_under(child.pid) if what == "compile" else set()
         sent = time.monotonic()
         child.send_signal(signal.SIGINT)
         out, err = child.communicate(timeout=20)
@@ -169,6 +246,32 @@ def test_ctrl_c_stops_a_long_call_within_a_second_and_the_interpreter_goes_on(tm
     assert 0 <= delay < 1.0, delay
     assert lines[1] == "after 200", (out, err)
     assert child.returncode == 0, err
+    if what == "compile":
+        check_compiler_gone(below, cache)
+
+
+def test_ctrl_c_stops_a_program_compiling_a_shape_and_the_compiler_with_it(tmp_path):
+    (tmp_path / "five.geomint").write_text(FIVE)
+    cache = tmp_path / "cache"
+    child = subprocess.Popen([os.path.join(BIN, "integrate"), "--system-file", str(tmp_path / "five.geomint"),
+                              "--scheme", "la", "--out", str(tmp_path / "out")],
+                             env=dict(os.environ, GEOMINT_SHAPE_CACHE=str(cache)),
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert "compiling the formula shape n = 5, m = 0" in child.stderr.readline()
+        below = compiler_under(child.pid)
+        sent = time.monotonic()
+        child.send_signal(signal.SIGINT)  # to the program alone: the compiler is in a process group of its own
+        out, err = child.communicate(timeout=20)
+        delay = time.monotonic() - sent
+    finally:
+        child.kill()
+    print("exit %d %.3f s after SIGINT: %s" % (child.returncode, delay, err.strip()))
+    assert child.returncode == 128 + signal.SIGINT, err
+    assert delay < 1.0, delay
+    assert "interrupted by signal 2 (SIGINT); nothing was written" in err
+    assert not (tmp_path / "out").exists()
+    check_compiler_gone(below, cache)
 
 
 def test_a_formula_budget_holds_inside_an_order():
