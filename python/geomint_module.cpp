@@ -768,7 +768,8 @@ PYBIND11_MODULE(_geomint, m) {
   m.def("systems", &system_names, "names of the systems of the registry (their C++ headers)");
   m.def("git_revision", [] { return std::string(git_revision()); }, "the git revision the module was built from");
   m.def("compiled_formula_shapes", &formula::compiled_formula_shapes,
-        "the shapes (n, m) of systems defined by formulas this build runs (core/src/formula/shapes.def)");
+        "the shapes (n, m) of systems defined by formulas this build compiled (core/src/formula/shapes.def); any "
+        "other shape up to n = 12, m = 6 is compiled at its first use (a minute or so, once; docs/systems/README.md)");
 
   py::class_<System>(m, "System", "a system: its parameters, schemes and studies")
       .def_property_readonly("name", [](const System& s) { return s.info().name; })
@@ -927,7 +928,8 @@ PYBIND11_MODULE(_geomint, m) {
         "a system of the registry by name");
   m.def("load_system", &load_system, py::arg("path"), py::arg("strict_herglotz") = false, py::arg("time_transform") = py::none(),
         "a system from a .geomint file (docs/systems/README.md); time_transform: a monitor g (formula in t, q1.., v1..) "
-        "in place of the file's, dt = g dsigma (docs/time-transformation.md)");
+        "in place of the file's, dt = g dsigma (docs/time-transformation.md). A shape (n, m) the build did not compile "
+        "is compiled here at its first use (compiled_formula_shapes; Ctrl-C stops it)");
   m.def("define_system", &define_system, py::arg("name"), py::arg("coordinates"), py::arg("L"), py::arg("herglotz") = py::none(),
         py::arg("force") = py::none(), py::arg("energy") = py::none(), py::arg("constraints") = py::none(),
         py::arg("holonomic") = false, py::arg("parameters") = py::dict(), py::arg("definitions") = py::dict(),
